@@ -1,0 +1,144 @@
+//! Shared output: pairs with the atoms' file identities, as JSON and text.
+
+use bump::collide::{ContactRule, Pair};
+use bump::model::Molecule;
+use serde::Serialize;
+
+/// One receptor–drug pair as the commands print it.
+#[derive(Debug, Serialize)]
+pub struct PairReport {
+    pub receptor_serial: i64,
+    pub receptor_name: String,
+    pub receptor_residue: String,
+    pub receptor_seq: i64,
+    pub receptor_chain: String,
+    pub receptor_element: String,
+    pub receptor_radius: f32,
+    pub drug_serial: i64,
+    pub drug_name: String,
+    pub drug_residue: String,
+    pub drug_seq: i64,
+    pub drug_chain: String,
+    pub drug_element: String,
+    pub drug_radius: f32,
+    /// Centre distance, Å.
+    pub distance: f32,
+    /// r_i + r_j − d, Å.
+    pub overlap: f32,
+    /// Overlap at which this pair collides (0.6, or 1.0 for N/O pairs).
+    pub allowance: f32,
+    /// d − contact distance: ≤ 0 collides.
+    pub gap: f32,
+}
+
+/// The report for `p`.
+pub fn pair_report(
+    rule: &ContactRule,
+    receptor: &Molecule,
+    drug: &Molecule,
+    p: &Pair,
+) -> PairReport {
+    let a = &receptor.atoms[p.receptor as usize];
+    let b = &drug.atoms[p.drug as usize];
+    PairReport {
+        receptor_serial: a.serial,
+        receptor_name: a.name.clone(),
+        receptor_residue: a.residue.clone(),
+        receptor_seq: a.seq,
+        receptor_chain: a.chain.clone(),
+        receptor_element: a.element.clone(),
+        receptor_radius: a.radius,
+        drug_serial: b.serial,
+        drug_name: b.name.clone(),
+        drug_residue: b.residue.clone(),
+        drug_seq: b.seq,
+        drug_chain: b.chain.clone(),
+        drug_element: b.element.clone(),
+        drug_radius: b.radius,
+        distance: p.distance,
+        overlap: a.radius + b.radius - p.distance,
+        allowance: rule.allowance(a.polar, b.polar),
+        gap: p.gap(),
+    }
+}
+
+/// Reports for a list of pairs.
+pub fn pair_reports(
+    rule: &ContactRule,
+    receptor: &Molecule,
+    drug: &Molecule,
+    pairs: &[Pair],
+) -> Vec<PairReport> {
+    pairs
+        .iter()
+        .map(|p| pair_report(rule, receptor, drug, p))
+        .collect()
+}
+
+/// Prints pairs as an aligned table.
+pub fn print_pairs(reports: &[PairReport]) {
+    if reports.is_empty() {
+        return;
+    }
+    println!(
+        "  {:>7} {:<4} {:<4} {:>5} {:<2} | {:>6} {:<4} {:<4} | {:>7} {:>7} {:>7}",
+        "serial", "name", "res", "seq", "ch", "serial", "name", "res", "dist", "overlap", "gap"
+    );
+    for r in reports {
+        println!(
+            "  {:>7} {:<4} {:<4} {:>5} {:<2} | {:>6} {:<4} {:<4} | {:>7.3} {:>7.3} {:>7.3}",
+            r.receptor_serial,
+            r.receptor_name,
+            r.receptor_residue,
+            r.receptor_seq,
+            r.receptor_chain,
+            r.drug_serial,
+            r.drug_name,
+            r.drug_residue,
+            r.distance,
+            r.overlap,
+            r.gap
+        );
+    }
+}
+
+/// The contact rule and radii as reported.
+#[derive(Debug, Serialize)]
+pub struct RuleReport {
+    pub overlap: f32,
+    pub hbond_allowance: f32,
+    pub radii: &'static str,
+    pub hydrogens: &'static str,
+    pub description: &'static str,
+}
+
+/// The rule report for a scene's options.
+pub fn rule_report(args: &super::SceneArgs, rule: &ContactRule) -> RuleReport {
+    RuleReport {
+        overlap: rule.overlap,
+        hbond_allowance: rule.hbond_allowance,
+        radii: args.radii.name(),
+        hydrogens: match args.hydrogens {
+            bump::model::Hydrogens::Drop => "drop",
+            bump::model::Hydrogens::Keep => "keep",
+        },
+        description: "a pair collides when r_i + r_j - d >= overlap (+ hbond_allowance when both are N/O)",
+    }
+}
+
+/// A molecule as reported.
+#[derive(Debug, Serialize)]
+pub struct MoleculeReport {
+    pub source: String,
+    pub name: String,
+    pub atoms: usize,
+}
+
+/// The report for a molecule.
+pub fn molecule_report(source: &str, m: &Molecule) -> MoleculeReport {
+    MoleculeReport {
+        source: source.to_string(),
+        name: m.name.clone(),
+        atoms: m.len(),
+    }
+}

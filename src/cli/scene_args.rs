@@ -1,0 +1,237 @@
+//! Options shared by the commands that load a receptor and a drug, and the
+//! loading itself (files or the built-in scene).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use bump::collide::{ColliderKind, ContactRule};
+use bump::model::{
+    self, Hydrogens, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin, receptor_only,
+    split_complex,
+};
+use bump::scene::Scene;
+use clap::Args;
+use glam::DVec3;
+
+/// Where the receptor and drug come from, and how they are judged.
+#[derive(Debug, Args, Clone)]
+pub struct SceneArgs {
+    /// Receptor file (PDB, mmCIF, optionally .gz), or a complex to split with
+    /// --ligand, or `builtin` for the thesis's triple ring and E.
+    pub receptor: String,
+    /// Drug file (SDF, PDB or mmCIF). Without it the drug is split from the
+    /// receptor file with --ligand (default: auto).
+    pub drug: Option<PathBuf>,
+    /// Drug residue in the receptor file: RESNAME, RESNAME:CHAIN:SEQ or auto.
+    #[arg(long)]
+    pub ligand: Option<String>,
+    /// SDF record to read from the drug file (1-based).
+    #[arg(long, value_name = "N")]
+    pub record: Option<usize>,
+    /// Radius table: bondi (Bondi 1964, Mantina 2009) or thesis (Turk 1989).
+    #[arg(long, default_value = "bondi", value_parser = parse_radii)]
+    pub radii: RadiiSet,
+    /// Hydrogens: drop (default) or keep.
+    #[arg(long, default_value = "drop", value_parser = parse_hydrogens)]
+    pub hydrogens: Hydrogens,
+    /// Overlap r_i + r_j − d (Å) at which a pair collides.
+    #[arg(long, default_value_t = 0.6, allow_hyphen_values = true)]
+    pub overlap: f32,
+    /// Extra overlap (Å) allowed between two N/O atoms (possible H-bond).
+    #[arg(long, default_value_t = 0.4, allow_hyphen_values = true)]
+    pub hbond_allowance: f32,
+    /// Collider: brute, grid or hashed.
+    #[arg(long, default_value = "hashed", value_parser = parse_collider)]
+    pub collider: ColliderKind,
+}
+
+fn parse_radii(s: &str) -> Result<RadiiSet, String> {
+    RadiiSet::parse(s).ok_or_else(|| format!("unknown radii `{s}` (bondi or thesis)"))
+}
+
+fn parse_hydrogens(s: &str) -> Result<Hydrogens, String> {
+    match s {
+        "drop" => Ok(Hydrogens::Drop),
+        "keep" => Ok(Hydrogens::Keep),
+        _ => Err(format!("unknown hydrogens mode `{s}` (drop or keep)")),
+    }
+}
+
+fn parse_collider(s: &str) -> Result<ColliderKind, String> {
+    ColliderKind::parse(s).ok_or_else(|| format!("unknown collider `{s}` (brute, grid or hashed)"))
+}
+
+/// Parses `X,Y,Z` into a vector of finite numbers.
+pub fn parse_vec3(s: &str) -> Result<DVec3, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("`{s}`: {e} (expected X,Y,Z)"))?;
+    match v.as_slice() {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(DVec3::new(*x, *y, *z)),
+        _ => Err(format!("`{s}`: expected three finite numbers X,Y,Z")),
+    }
+}
+
+/// A turn about an axis through the drug's centre: `AX,AY,AZ,DEG`.
+#[derive(Debug, Clone, Copy)]
+pub struct Turn {
+    /// Axis (any non-zero length).
+    pub axis: DVec3,
+    /// Angle in degrees.
+    pub degrees: f64,
+}
+
+/// Parses `AX,AY,AZ,DEG`.
+pub fn parse_turn(s: &str) -> Result<Turn, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("`{s}`: {e} (expected AX,AY,AZ,DEG)"))?;
+    match v.as_slice() {
+        [x, y, z, d] if v.iter().all(|c| c.is_finite()) => {
+            let axis = DVec3::new(*x, *y, *z);
+            if axis.length_squared() == 0.0 && *d != 0.0 {
+                return Err(format!("`{s}`: the turn axis is zero"));
+            }
+            Ok(Turn { axis, degrees: *d })
+        }
+        _ => Err(format!("`{s}`: expected four finite numbers AX,AY,AZ,DEG")),
+    }
+}
+
+/// A loaded scene with where it came from.
+pub struct LoadedScene {
+    /// Receptor, drug, rule and collider.
+    pub scene: Scene,
+    /// Receptor source (file path or `builtin`).
+    pub receptor_source: String,
+    /// Drug source.
+    pub drug_source: String,
+    /// Time to build the collider, µs.
+    pub build_us: f64,
+}
+
+impl SceneArgs {
+    /// Arguments for `bump [FILES]`: none → built-in, one → complex (auto
+    /// ligand), two → receptor and drug.
+    pub fn from_files(files: &[PathBuf]) -> anyhow::Result<Self> {
+        let mut args = Self {
+            receptor: "builtin".into(),
+            drug: None,
+            ligand: None,
+            record: None,
+            radii: RadiiSet::Bondi,
+            hydrogens: Hydrogens::Drop,
+            overlap: 0.6,
+            hbond_allowance: 0.4,
+            collider: ColliderKind::Hashed,
+        };
+        match files {
+            [] => {}
+            [r] => args.receptor = r.display().to_string(),
+            [r, d] => {
+                args.receptor = r.display().to_string();
+                args.drug = Some(d.clone());
+            }
+            _ => bail!("give at most two files (receptor and drug)"),
+        }
+        Ok(args)
+    }
+
+    /// The contact rule these options describe.
+    pub fn rule(&self) -> anyhow::Result<ContactRule> {
+        Ok(ContactRule::new(self.overlap, self.hbond_allowance)?)
+    }
+
+    fn load_options(&self) -> LoadOptions {
+        LoadOptions {
+            radii: self.radii,
+            hydrogens: self.hydrogens,
+            sdf_record: None,
+        }
+    }
+
+    /// Loads the molecules (printing loader warnings to stderr) and builds the scene.
+    pub fn load(&self) -> anyhow::Result<LoadedScene> {
+        let rule = self.rule()?;
+        let (receptor, drug, drug_source) = if self.receptor == "builtin" {
+            if self.drug.is_some() || self.ligand.is_some() {
+                bail!("the built-in scene takes no drug file and no --ligand");
+            }
+            let (r, d) = builtin::scene(self.radii);
+            (r, d, "builtin".to_string())
+        } else {
+            let path = PathBuf::from(&self.receptor);
+            let loaded = model::load(&path, &self.load_options())?;
+            warn(&loaded.warnings);
+            match &self.drug {
+                Some(drug_path) => {
+                    if self.ligand.is_some() {
+                        bail!(
+                            "--ligand splits the receptor file; it cannot be used with a drug file"
+                        );
+                    }
+                    let receptor = receptor_only(&loaded.structure)?;
+                    let mut opts = self.load_options();
+                    opts.sdf_record = self.record;
+                    let d = model::load(drug_path, &opts)?;
+                    warn(&d.warnings);
+                    let drug = receptor_only(&d.structure)?;
+                    (receptor, drug, drug_path.display().to_string())
+                }
+                None => {
+                    let text = self.ligand.as_deref().unwrap_or("auto");
+                    let spec = LigandSpec::parse(text)
+                        .map_err(|e| anyhow::anyhow!("--ligand {text}: {e}"))?;
+                    let (r, d) = split_complex(&loaded.structure, &spec)?;
+                    let name = d.name.clone();
+                    (r, d, format!("{} ({name})", self.receptor))
+                }
+            }
+        };
+        check_usable(&receptor, &drug)?;
+        let t0 = Instant::now();
+        let scene = Scene::new(receptor, drug, rule, self.collider);
+        let build_us = t0.elapsed().as_secs_f64() * 1e6;
+        Ok(LoadedScene {
+            scene,
+            receptor_source: self.receptor.clone(),
+            drug_source,
+            build_us,
+        })
+    }
+}
+
+fn check_usable(receptor: &Molecule, drug: &Molecule) -> anyhow::Result<()> {
+    if receptor.is_empty() {
+        bail!("{}: the receptor has no atoms", receptor.name);
+    }
+    if drug.is_empty() {
+        bail!("{}: the drug has no atoms", drug.name);
+    }
+    Ok(())
+}
+
+fn warn(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("bump: warning: {w}");
+    }
+}
+
+/// Runs `f` `n` times and returns the median wall time in µs with the last result.
+pub fn timed<T>(n: usize, mut f: impl FnMut() -> T) -> anyhow::Result<(T, f64)> {
+    let mut times = Vec::with_capacity(n.max(1));
+    let mut out = None;
+    for _ in 0..n.max(1) {
+        let t0 = Instant::now();
+        out = Some(f());
+        times.push(t0.elapsed().as_secs_f64() * 1e6);
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    out.map(|o| (o, median)).context("no run")
+}

@@ -1,0 +1,197 @@
+//! `bump touch`: propose a motion from the (shifted) file pose and report how
+//! much of it the collision response allows.
+
+use anyhow::Context;
+use bump::collide::{Method, Response, TouchOptions};
+use clap::Args;
+use glam::DVec3;
+use serde::Serialize;
+
+use super::report::{
+    MoleculeReport, PairReport, RuleReport, molecule_report, pair_report, pair_reports,
+    print_pairs, rule_report,
+};
+use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed};
+use bump::motion::pose::PoseSummary;
+
+/// Arguments of `bump touch`.
+#[derive(Debug, Args)]
+pub struct TouchArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Proposed translation of the drug's centre, DX,DY,DZ Å.
+    #[arg(long = "move", value_name = "DX,DY,DZ", value_parser = parse_vec3, allow_hyphen_values = true)]
+    translate: DVec3,
+    /// Proposed turn about the drug's centre: axis AX,AY,AZ and degrees.
+    #[arg(long, value_name = "AX,AY,AZ,DEG", value_parser = parse_turn, allow_hyphen_values = true)]
+    turn: Option<Turn>,
+    /// Start at the file pose shifted by DX,DY,DZ Å.
+    #[arg(long, value_name = "DX,DY,DZ", value_parser = parse_vec3, allow_hyphen_values = true)]
+    start: Option<DVec3>,
+    /// Collision response: touch, stop, slide or pass.
+    #[arg(long, default_value = "touch", value_parser = parse_response)]
+    response: Response,
+    /// Move-to-touch method: swept (never tunnels) or thesis (Turk's bisection).
+    #[arg(long, default_value = "swept", value_parser = parse_method)]
+    method: Method,
+    /// Distance tolerance of the touch, Å.
+    #[arg(long, default_value_t = 1e-3)]
+    tolerance: f64,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_response(s: &str) -> Result<Response, String> {
+    Response::parse(s).ok_or_else(|| format!("unknown response `{s}` (stop, touch, slide or pass)"))
+}
+
+fn parse_method(s: &str) -> Result<Method, String> {
+    Method::parse(s).ok_or_else(|| format!("unknown method `{s}` (swept or thesis)"))
+}
+
+#[derive(Serialize)]
+struct FinalPose {
+    /// Where the drug's centre ends, in the receptor file's coordinates.
+    #[serde(flatten)]
+    pose: PoseSummary,
+    /// How far the centre moved from the start.
+    displacement: [f64; 3],
+}
+
+#[derive(Serialize)]
+struct TouchReport {
+    receptor: MoleculeReport,
+    drug: MoleculeReport,
+    rule: RuleReport,
+    collider: &'static str,
+    response: &'static str,
+    method: &'static str,
+    tolerance: f64,
+    start_offset: [f64; 3],
+    proposed_move: [f64; 3],
+    proposed_turn_axis: [f64; 3],
+    proposed_turn_deg: f64,
+    start_collides: bool,
+    start_clashes: Vec<PairReport>,
+    t: f64,
+    legs: usize,
+    final_pose: FinalPose,
+    contacts: Vec<PairReport>,
+    colliding_at_end: Vec<PairReport>,
+    min_gap: Option<f32>,
+    nearest: Option<PairReport>,
+    build_us: f64,
+    elapsed_us: f64,
+}
+
+/// Runs `bump touch`.
+pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
+    if !args.tolerance.is_finite() || args.tolerance <= 0.0 {
+        anyhow::bail!(
+            "--tolerance must be a positive number of Å, got {}",
+            args.tolerance
+        );
+    }
+    let loaded = args.scene.load()?;
+    let scene = &loaded.scene;
+    let offset = args.start.unwrap_or(DVec3::ZERO);
+    let turn = args.turn.unwrap_or(Turn {
+        axis: DVec3::Z,
+        degrees: 0.0,
+    });
+    let start = scene.file_relative(offset);
+    let end = start.moved(args.translate, turn.axis, turn.degrees.to_radians());
+    let opts = TouchOptions {
+        tolerance: args.tolerance,
+        method: args.method,
+    };
+    let (r, us) =
+        timed(5, || scene.respond(&start, &end, args.response, &opts)).context("move-to-touch")?;
+    let world = scene.world_from_relative(&r.pose);
+    let rep = |p| pair_reports(&scene.rule, &scene.receptor, &scene.drug, p);
+    let report = TouchReport {
+        receptor: molecule_report(&loaded.receptor_source, &scene.receptor),
+        drug: molecule_report(&loaded.drug_source, &scene.drug),
+        rule: rule_report(&args.scene, &scene.rule),
+        collider: scene.collider().kind().name(),
+        response: args.response.name(),
+        method: args.method.name(),
+        tolerance: args.tolerance,
+        start_offset: offset.to_array(),
+        proposed_move: args.translate.to_array(),
+        proposed_turn_axis: turn.axis.to_array(),
+        proposed_turn_deg: turn.degrees,
+        start_collides: !r.start_colliding.is_empty(),
+        start_clashes: rep(&r.start_colliding),
+        t: r.t,
+        legs: r.legs,
+        final_pose: FinalPose {
+            pose: world.summary(),
+            displacement: (r.pose.translation - start.translation).to_array(),
+        },
+        contacts: rep(&r.contacts),
+        colliding_at_end: rep(&r.colliding),
+        min_gap: r.nearest.map(|p| p.gap()),
+        nearest: r
+            .nearest
+            .map(|p| pair_report(&scene.rule, &scene.receptor, &scene.drug, &p)),
+        build_us: loaded.build_us,
+        elapsed_us: us,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    println!(
+        "receptor {} ({} atoms), drug {} ({} atoms); collider {}, response {}, method {}",
+        report.receptor.name,
+        report.receptor.atoms,
+        report.drug.name,
+        report.drug.atoms,
+        report.collider,
+        report.response,
+        report.method
+    );
+    if report.start_collides {
+        println!(
+            "WARNING: the start pose already collides ({} pairs); only motions that do not deepen them are allowed:",
+            report.start_clashes.len()
+        );
+        print_pairs(&report.start_clashes);
+    }
+    let f = &report.final_pose;
+    println!(
+        "t = {:.6} of the motion ({:.1} µs)\nfinal centre ({:.4}, {:.4}, {:.4}), moved ({:.4}, {:.4}, {:.4}); rotation {:.3}° about ({:.3}, {:.3}, {:.3})",
+        report.t,
+        report.elapsed_us,
+        f.pose.centre[0],
+        f.pose.centre[1],
+        f.pose.centre[2],
+        f.displacement[0],
+        f.displacement[1],
+        f.displacement[2],
+        f.pose.angle_deg,
+        f.pose.axis[0],
+        f.pose.axis[1],
+        f.pose.axis[2]
+    );
+    match report.min_gap {
+        Some(g) => println!("smallest gap {g:.4} Å"),
+        None => println!("no receptor atom within 4 Å of contact"),
+    }
+    println!(
+        "{} pair{} in contact (gap <= {} Å):",
+        report.contacts.len(),
+        if report.contacts.len() == 1 { "" } else { "s" },
+        report.tolerance
+    );
+    print_pairs(&report.contacts);
+    if !report.colliding_at_end.is_empty() {
+        println!(
+            "{} pairs collide at the final pose",
+            report.colliding_at_end.len()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,126 @@
+//! Static queries at one pose: the colliding pairs, the pairs in contact
+//! within a tolerance, and the smallest gap.
+//!
+//! The drug's atoms are placed in the receptor frame with one relative pose
+//! (f64, rounded to f32 once per atom); each atom asks the collider for the
+//! receptor atoms in a box around it and applies the contact rule exactly.
+//! Results are sorted by receptor atom, then drug atom, so every collider gives
+//! the same list.
+
+use glam::Vec3;
+use serde::Serialize;
+
+use super::collider::{Collider, unpack_meta};
+use super::drug::DrugAtoms;
+use crate::motion::Pose;
+
+/// A receptor–drug atom pair near or in contact.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Pair {
+    /// Receptor atom index (into the receptor molecule).
+    pub receptor: u32,
+    /// Drug atom index (into the drug molecule).
+    pub drug: u32,
+    /// Centre distance in Å.
+    pub distance: f32,
+    /// Contact distance `r_i + r_j − allowance`: the pair collides at or below it.
+    pub contact: f32,
+}
+
+impl Pair {
+    /// `distance − contact`: negative or zero means the pair collides.
+    pub fn gap(&self) -> f32 {
+        self.distance - self.contact
+    }
+
+    /// True when the pair collides under the rule (`d ≤ c`).
+    pub fn collides(&self) -> bool {
+        self.contact >= 0.0 && self.distance <= self.contact
+    }
+
+    fn key(&self) -> (u32, u32) {
+        (self.receptor, self.drug)
+    }
+}
+
+/// Sorts pairs by receptor atom, then drug atom.
+pub fn sort_pairs(pairs: &mut [Pair]) {
+    pairs.sort_unstable_by_key(Pair::key);
+}
+
+/// Visits every pair with `d ≤ c + extra` at relative pose `rel`, unsorted.
+/// `f` returns `false` to stop early.
+pub fn visit_pairs<F: FnMut(Pair) -> bool>(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    rel: &Pose,
+    extra: f32,
+    mut f: F,
+) {
+    for (i, x) in drug.placed(rel).enumerate() {
+        let r = Vec3::splat(drug.reach[i] + extra.max(0.0));
+        let mut go_on = true;
+        collider.visit(x - r, x + r, |a, meta| {
+            if !go_on {
+                return;
+            }
+            let (j, polar) = unpack_meta(meta);
+            let c = drug.contact(i, a.w, polar);
+            let lim = c + extra;
+            let d2 = (a.truncate() - x).length_squared();
+            if lim >= 0.0 && d2 <= lim * lim {
+                go_on = f(Pair {
+                    receptor: j,
+                    drug: i as u32,
+                    distance: d2.sqrt(),
+                    contact: c,
+                });
+            }
+        });
+        if !go_on {
+            return;
+        }
+    }
+}
+
+/// All pairs with `d ≤ c + extra` (`extra = 0`: the colliding pairs), sorted.
+pub fn pairs_within(collider: &Collider, drug: &DrugAtoms, rel: &Pose, extra: f32) -> Vec<Pair> {
+    let mut out = Vec::new();
+    visit_pairs(collider, drug, rel, extra, |p| {
+        out.push(p);
+        true
+    });
+    sort_pairs(&mut out);
+    out
+}
+
+/// The colliding pairs at `rel`, sorted by receptor atom then drug atom.
+pub fn check(collider: &Collider, drug: &DrugAtoms, rel: &Pose) -> Vec<Pair> {
+    pairs_within(collider, drug, rel, 0.0)
+}
+
+/// True when any pair collides at `rel` (stops at the first).
+pub fn any_collision(collider: &Collider, drug: &DrugAtoms, rel: &Pose) -> bool {
+    let mut hit = false;
+    visit_pairs(collider, drug, rel, 0.0, |_| {
+        hit = true;
+        false
+    });
+    hit
+}
+
+/// The pair with the smallest gap among pairs with `gap ≤ within`, if any.
+pub fn min_gap(collider: &Collider, drug: &DrugAtoms, rel: &Pose, within: f32) -> Option<Pair> {
+    let mut best: Option<Pair> = None;
+    visit_pairs(collider, drug, rel, within, |p| {
+        let better = match &best {
+            None => true,
+            Some(b) => (p.gap(), p.key()) < (b.gap(), b.key()),
+        };
+        if better {
+            best = Some(p);
+        }
+        true
+    });
+    best
+}

@@ -1,0 +1,108 @@
+//! A drug prepared for queries against one receptor collider: its atoms'
+//! local positions, radii and the per-atom parts of the contact distance.
+
+use glam::{DMat3, DVec3, Vec3};
+
+use super::rule::ContactRule;
+use crate::model::Molecule;
+use crate::motion::Pose;
+
+/// Drug atoms with their contact-rule constants precomputed.
+#[derive(Debug, Clone)]
+pub struct DrugAtoms {
+    /// Positions relative to the drug's centre.
+    pub local: Vec<Vec3>,
+    /// Van der Waals radii.
+    pub radius: Vec<f32>,
+    /// N/O flags.
+    pub polar: Vec<bool>,
+    /// `r_i − overlap`: add a non-polar partner's radius for the contact distance.
+    c_plain: Vec<f32>,
+    /// `r_i − overlap − hbond` for polar atoms (equal to `c_plain` otherwise).
+    c_polar: Vec<f32>,
+    /// Largest contact distance atom `i` can have with any receptor atom.
+    pub reach: Vec<f32>,
+    /// Largest `reach`.
+    pub max_reach: f32,
+    /// Distance from the centre to the farthest atom centre.
+    pub extent: f64,
+}
+
+impl DrugAtoms {
+    /// Prepares `drug` for a receptor whose largest atom radius is
+    /// `receptor_max_radius`, judged by `rule`.
+    pub fn new(drug: &Molecule, rule: &ContactRule, receptor_max_radius: f32) -> Self {
+        let radius: Vec<f32> = drug.atoms.iter().map(|a| a.radius).collect();
+        let polar: Vec<bool> = drug.atoms.iter().map(|a| a.polar).collect();
+        let c_plain: Vec<f32> = radius.iter().map(|r| r - rule.overlap).collect();
+        let c_polar: Vec<f32> = radius
+            .iter()
+            .zip(&polar)
+            .map(|(r, &p)| {
+                if p {
+                    r - rule.overlap - rule.hbond_allowance
+                } else {
+                    r - rule.overlap
+                }
+            })
+            .collect();
+        let reach: Vec<f32> = c_plain
+            .iter()
+            .zip(&c_polar)
+            .map(|(a, b)| a.max(*b) + receptor_max_radius)
+            .collect();
+        let max_reach = reach.iter().copied().fold(0.0, f32::max);
+        let extent = drug
+            .local
+            .iter()
+            .map(|p| f64::from(p.length()))
+            .fold(0.0, f64::max);
+        Self {
+            local: drug.local.clone(),
+            radius,
+            polar,
+            c_plain,
+            c_polar,
+            reach,
+            max_reach,
+            extent,
+        }
+    }
+
+    /// Number of atoms.
+    pub fn len(&self) -> usize {
+        self.local.len()
+    }
+
+    /// True when there are no atoms.
+    pub fn is_empty(&self) -> bool {
+        self.local.is_empty()
+    }
+
+    /// Contact distance of drug atom `i` with a receptor atom of radius `r`
+    /// and polarity `polar` (see [`ContactRule`]).
+    #[inline]
+    pub fn contact(&self, i: usize, r: f32, polar: bool) -> f32 {
+        r + if polar {
+            self.c_polar[i]
+        } else {
+            self.c_plain[i]
+        }
+    }
+
+    /// Atom positions in the receptor frame for the relative pose `rel`,
+    /// computed in f64 and rounded to f32 once.
+    pub fn placed(&self, rel: &Pose) -> impl Iterator<Item = Vec3> + '_ {
+        let m = DMat3::from_quat(rel.rotation);
+        let t = rel.translation;
+        self.local
+            .iter()
+            .map(move |p| (m * p.as_dvec3() + t).as_vec3())
+    }
+
+    /// Atom offsets from the centre, rotated by `rotation` (f64).
+    pub fn rotated(&self, rel: &Pose) -> Vec<DVec3> {
+        let m = DMat3::from_quat(rel.rotation);
+        self.local.iter().map(|p| m * p.as_dvec3()).collect()
+    }
+}

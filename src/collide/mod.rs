@@ -1,0 +1,22 @@
+//! Collision detection between a receptor and a drug made of spheres.
+//!
+//! [`rule`] says when two atoms collide; [`collider`] indexes the receptor
+//! (brute force, full grid or hashed grid); [`mod@check`] answers static queries;
+//! [`sweep`] moves the drug to touch without tunnelling; [`response`] turns a
+//! proposed step into the session's answer (stop, touch, slide, pass);
+//! [`stats`] measures grid occupancy (the thesis's Table 1).
+
+pub mod check;
+pub mod collider;
+pub mod drug;
+pub mod response;
+pub mod rule;
+pub mod stats;
+pub mod sweep;
+
+pub use check::{Pair, any_collision, check, min_gap, pairs_within};
+pub use collider::{Collider, ColliderKind};
+pub use drug::DrugAtoms;
+pub use response::{Response, StepResult, respond};
+pub use rule::ContactRule;
+pub use sweep::{Method, TouchOptions, TouchResult, move_to_touch};

@@ -1,0 +1,411 @@
+//! Move-to-touch: how far along a proposed motion the drug may go.
+//!
+//! The motion is the screw from a start pose to an end pose ([`Screw`]); the
+//! answer is the largest fraction `t` for which no pair collides anywhere on
+//! `[0, t]`, the pose there and the pairs within `tolerance` of contact.
+//!
+//! # The swept method (default)
+//! Every atom moves along a helix at a constant speed `s_i`. The motion is cut
+//! into intervals short enough that no atom moves more than one grid cell in
+//! each; in an interval, atom `i` stays inside a ball around its mid-interval
+//! position of radius `s_i·Δt/2`, so the collider's box query around that ball
+//! finds every receptor atom it could reach (nothing is skipped, however long
+//! the step). Intervals are taken in order and the first hit ends the search.
+//!
+//! For each candidate pair the first time its gap reaches the target is found
+//! by conservative advancement on `f(t) = |x(t) − q|² − c²`: from `t`, the
+//! step is the first root of a lower bound of `f` — the larger of the
+//! first-order bound (`|d'| ≤ s_i`) and a second-order one
+//! (`f'' ≥ 2 s_i² − 2 |x − q| θ s_i`, exact for pure translations, where the
+//! step lands on the closed-form time of impact). Steps never cross the root,
+//! so the stop time is collision-free; the target contact distance is raised by
+//! `tolerance/2` so rounding cannot turn "touching" into "colliding", and a
+//! pair stops the drug only while it is approaching, so a drug at rest in
+//! contact can always move away. The final pose is checked once more with the
+//! static (f32) rule, backing off if rounding disagrees.
+//!
+//! A start pose that already collides is reported; its colliding pairs may not
+//! get any closer (their target distance is their start distance), every other
+//! pair obeys the rule as usual.
+//!
+//! # The thesis method ([`Method::Thesis`])
+//! Turk's `pg_move_to_touch`: the colliding pairs at the end pose, then
+//! bisection on that list only. It misses pairs that collide mid-path but not
+//! at the end, so it can tunnel and can return overlapping poses; it is kept to
+//! measure exactly that.
+
+use glam::{DMat3, DQuat, DVec3, Vec3};
+use serde::Serialize;
+
+use super::check::{Pair, any_collision, check, min_gap, pairs_within};
+use super::collider::{Collider, unpack_meta};
+use super::drug::DrugAtoms;
+use crate::motion::{Pose, Screw};
+
+/// Smallest tolerance accepted, in Å: below it f32 coordinates cannot tell
+/// touching from colliding.
+pub const MIN_TOLERANCE: f64 = 1e-5;
+
+/// Iterations of conservative advancement per pair before stopping (safely) short.
+const MAX_PAIR_ITERATIONS: usize = 100;
+
+/// Which move-to-touch algorithm to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Swept conservative advancement: never overlaps, never tunnels.
+    #[default]
+    Swept,
+    /// Turk 1989: end-pose pair list, then bisection on it.
+    Thesis,
+}
+
+impl Method {
+    /// Parses `swept` or `thesis`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "swept" | "bump" | "exact" => Some(Self::Swept),
+            "thesis" | "turk" => Some(Self::Thesis),
+            _ => None,
+        }
+    }
+
+    /// The name as the command line spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Swept => "swept",
+            Self::Thesis => "thesis",
+        }
+    }
+}
+
+/// Parameters of a move-to-touch query.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TouchOptions {
+    /// Distance tolerance in Å: the drug stops when a pair's gap is within it
+    /// (and never below zero). Clamped to at least [`MIN_TOLERANCE`].
+    pub tolerance: f64,
+    /// Algorithm.
+    pub method: Method,
+}
+
+impl Default for TouchOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-3,
+            method: Method::Swept,
+        }
+    }
+}
+
+/// What a move-to-touch query found.
+#[derive(Debug, Clone)]
+pub struct TouchResult {
+    /// Fraction of the motion allowed, in [0, 1].
+    pub t: f64,
+    /// The drug's pose (in the receptor frame) at `t`.
+    pub pose: Pose,
+    /// Pairs within `tolerance` of contact (or colliding) at `pose`, sorted.
+    pub contacts: Vec<Pair>,
+    /// Pairs colliding at `pose`: empty unless the start already collided (those
+    /// pairs, not deeper) or the thesis method failed.
+    pub colliding: Vec<Pair>,
+    /// Pairs colliding at the start pose.
+    pub start_colliding: Vec<Pair>,
+    /// The pair with the smallest gap within 4 Å of contact at `pose`.
+    pub nearest: Option<Pair>,
+}
+
+impl TouchResult {
+    /// True when the start pose already collided.
+    pub fn start_collides(&self) -> bool {
+        !self.start_colliding.is_empty()
+    }
+}
+
+/// How far beyond contact the nearest-pair report looks, in Å.
+pub const NEAREST_WITHIN: f32 = 4.0;
+
+/// Moves the drug from `start` towards `end` (both relative to the receptor)
+/// and stops it at first touch. See the module documentation.
+///
+/// # Panics
+/// Never; non-finite poses give `t = 0` at the start pose.
+pub fn move_to_touch(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    start: &Pose,
+    end: &Pose,
+    opts: &TouchOptions,
+) -> TouchResult {
+    let tol = if opts.tolerance.is_finite() {
+        opts.tolerance.max(MIN_TOLERANCE)
+    } else {
+        MIN_TOLERANCE
+    };
+    let start_colliding = check(collider, drug, start);
+    if !start.is_finite() || !end.is_finite() {
+        return finish(collider, drug, 0.0, *start, start_colliding, tol);
+    }
+    let screw = Screw::between(*start, *end);
+    let (t, pose) = match opts.method {
+        Method::Swept => swept(collider, drug, &screw, tol, &start_colliding),
+        Method::Thesis => thesis(collider, drug, &screw, tol),
+    };
+    finish(collider, drug, t, pose, start_colliding, tol)
+}
+
+fn finish(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    t: f64,
+    pose: Pose,
+    start_colliding: Vec<Pair>,
+    tol: f64,
+) -> TouchResult {
+    let contacts = pairs_within(collider, drug, &pose, tol as f32);
+    let colliding = contacts.iter().copied().filter(Pair::collides).collect();
+    let nearest = min_gap(collider, drug, &pose, NEAREST_WITHIN);
+    TouchResult {
+        t,
+        pose,
+        contacts,
+        colliding,
+        start_colliding,
+        nearest,
+    }
+}
+
+/// True when `pose` adds a collision that the start did not have, or deepens
+/// one it had.
+fn violates(collider: &Collider, drug: &DrugAtoms, pose: &Pose, start_colliding: &[Pair]) -> bool {
+    if start_colliding.is_empty() {
+        return any_collision(collider, drug, pose);
+    }
+    check(collider, drug, pose).iter().any(|p| {
+        match start_colliding.binary_search_by_key(&(p.receptor, p.drug), |s| (s.receptor, s.drug))
+        {
+            // Allowed to stay, not to get closer (f32 rounding slack).
+            Ok(k) => p.distance < start_colliding[k].distance - 1e-5,
+            Err(_) => true,
+        }
+    })
+}
+
+/// Smallest positive root of `f + b·τ + a·τ²` (with `f ≥ 0`), or infinity.
+#[inline]
+fn first_positive_root(f: f64, b: f64, a: f64) -> f64 {
+    if f <= 0.0 {
+        return if b < 0.0 || (b == 0.0 && a < 0.0) {
+            0.0
+        } else if a < 0.0 {
+            -b / a
+        } else {
+            f64::INFINITY
+        };
+    }
+    if a == 0.0 {
+        return if b < 0.0 { f / -b } else { f64::INFINITY };
+    }
+    let disc = b * b - 4.0 * a * f;
+    if a > 0.0 {
+        if b >= 0.0 || disc < 0.0 {
+            f64::INFINITY
+        } else {
+            2.0 * f / (-b + disc.sqrt())
+        }
+    } else if b <= 0.0 {
+        2.0 * f / (-b + disc.sqrt())
+    } else {
+        (b + disc.sqrt()) / (-2.0 * a)
+    }
+}
+
+/// Per-query constants of the screw for one atom.
+struct Mover<'a> {
+    screw: &'a Screw,
+    angle: f64,
+    half_tol: f64,
+}
+
+impl Mover<'_> {
+    /// First time in `[t0, limit)` at which the pair (drug atom at offset `y`
+    /// with speed `s`, receptor atom at `q`, contact distance `c`) is within
+    /// tolerance of contact and approaching; `None` when it is not before `limit`.
+    fn first_touch(&self, y: DVec3, s: f64, q: DVec3, c: f64, t0: f64, limit: f64) -> Option<f64> {
+        let sc = self.screw;
+        let at = |t: f64| sc.rotation_at(t) * y + sc.centre_at(t);
+        let mut t = t0;
+        let mut x = at(t);
+        let mut dist = (x - q).length();
+        // The target distance: contact plus a margin, but never above the
+        // current distance; a pair already at or inside contact may not get closer.
+        let target = if dist > c {
+            c + self.half_tol.min(0.5 * (dist - c))
+        } else {
+            dist
+        };
+        let acc = self.angle * s; // bound on |x''| (centripetal θ²ρ ≤ θ·s)
+        for _ in 0..MAX_PAIR_ITERATIONS {
+            let gap = dist - target;
+            let rel = x - q;
+            let fp = 2.0 * rel.dot(sc.velocity_at(x));
+            let approaching = fp < -1e-12 * s * dist.max(1.0);
+            if gap <= self.half_tol && approaching {
+                return Some(t);
+            }
+            let f = (dist - target) * (dist + target);
+            let window = limit - t;
+            let a = s * s - (dist + s * window) * acc;
+            let tau1 = gap.max(0.0) / s;
+            let tau2 = first_positive_root(f.max(0.0), fp, a);
+            let tau = tau1.max(tau2);
+            // NaN or beyond the window: no touch before `limit`.
+            if tau.is_nan() || tau >= window {
+                return None;
+            }
+            if tau <= f64::EPSILON * t.abs().max(1e-300) {
+                // Cannot advance (touching and not separating): stop here.
+                return Some(t);
+            }
+            t += tau;
+            x = at(t);
+            dist = (x - q).length();
+        }
+        Some(t)
+    }
+}
+
+/// The swept method: returns the stop time and pose.
+fn swept(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    screw: &Screw,
+    tol: f64,
+    start_colliding: &[Pair],
+) -> (f64, Pose) {
+    let start = *screw.start();
+    let ys = drug.rotated(&start);
+    let speeds: Vec<f64> = ys.iter().map(|y| screw.speed(*y)).collect();
+    let s_max = speeds.iter().copied().fold(0.0, f64::max);
+    if s_max.is_nan() || s_max <= 0.0 || collider.is_empty() || drug.is_empty() {
+        return (1.0, *screw.end());
+    }
+    let mover = Mover {
+        screw,
+        angle: screw.angle(),
+        half_tol: 0.5 * tol,
+    };
+    let cell = f64::from(collider.cell_size());
+    let dt = (cell / s_max).min(1.0);
+    let centre_speed = screw.speed(DVec3::ZERO);
+    let (blo, bhi) = collider.bounds();
+    let margin = f64::from(drug.max_reach) + tol;
+    let (blo, bhi) = (
+        blo.as_dvec3() - DVec3::splat(margin),
+        bhi.as_dvec3() + DVec3::splat(margin),
+    );
+
+    let mut t_hit = 1.0f64;
+    let mut ta = 0.0f64;
+    while ta < t_hit {
+        let tb = (ta + dt).min(1.0);
+        let half = 0.5 * (tb - ta);
+        let tm = ta + half;
+        let cm = screw.centre_at(tm);
+        // Coarse cull: the whole drug over this interval against the receptor's box.
+        let r_all = drug.extent + centre_speed * half;
+        let outside = (cm + DVec3::splat(r_all)).cmplt(blo).any()
+            || (cm - DVec3::splat(r_all)).cmpgt(bhi).any();
+        if !outside {
+            let rot_m = DMat3::from_quat(screw.rotation_at(tm));
+            for (i, y) in ys.iter().enumerate() {
+                let s = speeds[i];
+                let xm = rot_m * *y + cm;
+                let sweep = s * half;
+                let xm32 = xm.as_vec3();
+                let r = Vec3::splat((f64::from(drug.reach[i]) + sweep + tol) as f32);
+                collider.visit(xm32 - r, xm32 + r, |a, meta| {
+                    let (_, polar) = unpack_meta(meta);
+                    let c = f64::from(drug.contact(i, a.w, polar));
+                    let q = a.truncate().as_dvec3();
+                    // Quick reject: out of reach over the whole interval.
+                    let reach = c + sweep + tol;
+                    if (q - xm).length_squared() > reach * reach {
+                        return;
+                    }
+                    let limit = t_hit.min(tb);
+                    if let Some(th) = mover.first_touch(*y, s, q, c, ta, limit)
+                        && th < t_hit
+                    {
+                        t_hit = th;
+                    }
+                });
+            }
+        }
+        if t_hit <= tb {
+            break;
+        }
+        ta = tb;
+    }
+
+    // Confirm with the static rule; back off if f32 rounding disagrees.
+    let mut t = t_hit;
+    let mut pose = screw.pose_at(t);
+    let mut back = tol / s_max;
+    let mut tries = 0;
+    while t > 0.0 && violates(collider, drug, &pose, start_colliding) {
+        tries += 1;
+        t = if tries > 40 { 0.0 } else { (t - back).max(0.0) };
+        back *= 2.0;
+        pose = screw.pose_at(t);
+    }
+    (t, pose)
+}
+
+/// The thesis's method: pairs colliding at the end pose, bisection on them.
+fn thesis(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> (f64, Pose) {
+    let end = *screw.end();
+    let list = check(collider, drug, &end);
+    if list.is_empty() {
+        return (1.0, end);
+    }
+    let start = *screw.start();
+    let ys = drug.rotated(&start);
+    let s_max = ys.iter().map(|y| screw.speed(*y)).fold(0.0, f64::max);
+    let hits = |t: f64| {
+        let p = screw.pose_at(t);
+        let m = DMat3::from_quat(p.rotation);
+        list.iter().any(|pair| {
+            let i = pair.drug as usize;
+            let x = (m * drug.local[i].as_dvec3() + p.translation).as_vec3();
+            let q = collider_atom(collider, pair.receptor);
+            let d = (x - q).length();
+            pair.contact >= 0.0 && d <= pair.contact
+        })
+    };
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    while (hi - lo) * s_max > tol && hi - lo > f64::EPSILON {
+        let mid = 0.5 * (lo + hi);
+        if hits(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    (lo, screw.pose_at(lo))
+}
+
+/// Position of receptor atom `index` in the receptor frame.
+fn collider_atom(collider: &Collider, index: u32) -> Vec3 {
+    collider.atom_position(index)
+}
+
+/// Convenience: a rotation quaternion from an axis (any length) and degrees.
+pub fn turn(axis: DVec3, degrees: f64) -> DQuat {
+    if axis.length_squared() > 0.0 && degrees != 0.0 {
+        DQuat::from_axis_angle(axis.normalize(), degrees.to_radians())
+    } else {
+        DQuat::IDENTITY
+    }
+}

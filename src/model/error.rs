@@ -1,0 +1,50 @@
+//! Errors from reading and splitting molecule files. Every message names the
+//! file, and the line where the reader knows it.
+
+use thiserror::Error;
+
+/// Why a molecule could not be loaded or split.
+#[derive(Debug, Error)]
+pub enum LoadError {
+    /// The file could not be opened or read.
+    #[error("{path}: cannot read: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The extension names no format bump reads.
+    #[error(
+        "{path}: unknown format (expected .pdb, .ent, .cif, .mmcif, .sdf or .mol, optionally .gz)"
+    )]
+    UnknownFormat {
+        /// The file.
+        path: String,
+    },
+    /// The file is not valid in its format.
+    #[error("{path}{}: {reason}", line.map(|l| format!(":{l}")).unwrap_or_default())]
+    Parse {
+        /// The file.
+        path: String,
+        /// 1-based line, when known.
+        line: Option<usize>,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The file parsed but holds no atoms (after dropping hydrogens, if asked).
+    #[error("{path}: no atoms")]
+    NoAtoms {
+        /// The file.
+        path: String,
+    },
+    /// The ligand asked for is not in the file, or the split left nothing.
+    #[error("{path}: {reason}")]
+    Ligand {
+        /// The file.
+        path: String,
+        /// What is wrong.
+        reason: String,
+    },
+}

@@ -1,0 +1,121 @@
+//! Molecules: atoms, elements and radii, loading from PDB, mmCIF and SDF files,
+//! splitting a complex into receptor and drug, and the built-in scene.
+//!
+//! Loading gives a [`Structure`]: every kept atom of the first model, with
+//! alternate locations resolved and hydrogens dropped or kept as asked.
+//! [`select`] turns a structure into the receptor and drug [`Molecule`]s.
+
+pub mod builtin;
+pub mod element;
+pub mod error;
+pub mod molecule;
+pub mod pdb;
+pub mod sdf;
+pub mod select;
+
+use std::path::Path;
+
+use glam::DVec3;
+
+pub use element::RadiiSet;
+pub use error::LoadError;
+pub use molecule::{AtomInfo, Molecule};
+pub use select::{LigandSpec, receptor_only, split_complex};
+
+/// Whether hydrogens are kept when loading.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Hydrogens {
+    /// Drop H and D atoms (the default: crystal structures rarely have them,
+    /// and hydrogen-bond contacts would read as collisions).
+    #[default]
+    Drop,
+    /// Keep them.
+    Keep,
+}
+
+/// How to read a file.
+#[derive(Debug, Clone, Default)]
+pub struct LoadOptions {
+    /// Radius table.
+    pub radii: RadiiSet,
+    /// Keep or drop hydrogens.
+    pub hydrogens: Hydrogens,
+    /// For SDF files: which record (1-based); the first when `None`.
+    pub sdf_record: Option<usize>,
+}
+
+/// Every kept atom of a file's first model, in file order.
+#[derive(Debug, Clone)]
+pub struct Structure {
+    /// The file name, for messages and labels.
+    pub name: String,
+    /// Atom identities.
+    pub atoms: Vec<AtomInfo>,
+    /// File coordinates, same order as `atoms`.
+    pub positions: Vec<DVec3>,
+}
+
+/// A loaded structure with the reader's warnings (messages for the user,
+/// already naming the file).
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    /// The atoms.
+    pub structure: Structure,
+    /// Warnings: the parser's, unknown elements given a default radius, skipped records.
+    pub warnings: Vec<String>,
+}
+
+/// Reads a PDB, mmCIF (plain or gzipped) or SDF file, chosen by extension
+/// (`.pdb`, `.ent`, `.cif`, `.mmcif`, `.sdf`, `.mol`, each optionally `.gz`).
+///
+/// # Errors
+/// [`LoadError`] naming the file (and line, when known) for an unreadable file,
+/// an unknown format, a parse failure or a file with no atoms.
+pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
+    let lower = path.to_string_lossy().to_ascii_lowercase();
+    let stem = lower.strip_suffix(".gz").unwrap_or(&lower);
+    let loaded = if stem.ends_with(".sdf") || stem.ends_with(".mol") || stem.ends_with(".sd") {
+        sdf::load_sdf(path, opts)?
+    } else if stem.ends_with(".pdb")
+        || stem.ends_with(".ent")
+        || stem.ends_with(".cif")
+        || stem.ends_with(".mmcif")
+    {
+        pdb::load_pdbtbx(path, opts)?
+    } else {
+        return Err(LoadError::UnknownFormat {
+            path: path.display().to_string(),
+        });
+    };
+    if loaded.structure.atoms.is_empty() {
+        return Err(LoadError::NoAtoms {
+            path: path.display().to_string(),
+        });
+    }
+    Ok(loaded)
+}
+
+/// Residue names treated as water.
+pub const WATER_NAMES: &[&str] = &["HOH", "WAT", "H2O", "DOD", "TIP", "TIP3", "SOL", "D2O"];
+
+/// True when `residue` names a water.
+pub fn is_water(residue: &str) -> bool {
+    WATER_NAMES.contains(&residue.trim().to_ascii_uppercase().as_str())
+}
+
+/// `../shared/pdb` for unit tests, or `None` with a skip message when it is
+/// absent; under `CI=true` its absence fails the test.
+#[cfg(test)]
+pub(crate) fn test_data_dir() -> Option<std::path::PathBuf> {
+    let dir = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb"));
+    if dir.join("MANIFEST.md").is_file() {
+        return Some(dir);
+    }
+    assert!(
+        std::env::var("CI").as_deref() != Ok("true"),
+        "test data folder {} is missing (CI must have ../shared/pdb)",
+        dir.display()
+    );
+    eprintln!("SKIP: test data folder {} not found", dir.display());
+    None
+}

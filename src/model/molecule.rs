@@ -1,0 +1,102 @@
+//! A rigid molecule: atoms with identities and radii, and coordinates stored
+//! relative to the molecule's own centre.
+//!
+//! Coordinates come from files in f64. The centre is the centroid of the kept
+//! atoms; each atom's position relative to it is stored in f32 (`local`), which
+//! keeps full precision however far from the origin the file places the
+//! molecule. A [`crate::motion::Pose`] (f64) places the molecule in the world.
+
+use glam::{DVec3, Vec3};
+use serde::Serialize;
+
+/// One atom's identity, as the file gave it, plus its radius.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AtomInfo {
+    /// The file's atom serial number (PDB/mmCIF), or the 1-based record order (SDF).
+    pub serial: i64,
+    /// Atom name (`CA`, `N1`, ...); for SDF, element plus index (`C3`).
+    pub name: String,
+    /// Residue name (`TOP`, `ALA`); for SDF, the molecule's name or `LIG`.
+    pub residue: String,
+    /// Residue sequence number (0 for SDF).
+    pub seq: i64,
+    /// Insertion code, empty when none.
+    pub insertion: String,
+    /// Chain identifier, empty when none.
+    pub chain: String,
+    /// Element symbol, normalised (`C`, `Cl`).
+    pub element: String,
+    /// Van der Waals radius in Å.
+    pub radius: f32,
+    /// True for N and O (possible hydrogen-bond partners).
+    pub polar: bool,
+    /// True when the file marked the atom HETATM.
+    pub hetero: bool,
+}
+
+/// A rigid molecule ready for collision detection.
+#[derive(Debug, Clone)]
+pub struct Molecule {
+    /// A label for messages: the file name and, for a split complex, the part.
+    pub name: String,
+    /// Atom identities, in file order.
+    pub atoms: Vec<AtomInfo>,
+    /// Centroid of the atoms in file coordinates (f64).
+    pub centre: DVec3,
+    /// Atom positions relative to `centre`, same order as `atoms`.
+    pub local: Vec<Vec3>,
+}
+
+impl Molecule {
+    /// Builds a molecule from atoms and their file coordinates. The centre is
+    /// the centroid (the origin when there are no atoms).
+    pub fn new(name: impl Into<String>, atoms: Vec<AtomInfo>, positions: &[DVec3]) -> Self {
+        debug_assert_eq!(atoms.len(), positions.len());
+        let centre = if positions.is_empty() {
+            DVec3::ZERO
+        } else {
+            positions.iter().copied().sum::<DVec3>() / positions.len() as f64
+        };
+        let local = positions.iter().map(|p| (*p - centre).as_vec3()).collect();
+        Self {
+            name: name.into(),
+            atoms,
+            centre,
+            local,
+        }
+    }
+
+    /// Number of atoms.
+    pub fn len(&self) -> usize {
+        self.atoms.len()
+    }
+
+    /// True when the molecule has no atoms.
+    pub fn is_empty(&self) -> bool {
+        self.atoms.is_empty()
+    }
+
+    /// Position of atom `i` in file coordinates (f64).
+    pub fn file_position(&self, i: usize) -> DVec3 {
+        self.centre + self.local[i].as_dvec3()
+    }
+
+    /// All positions in file coordinates.
+    pub fn file_positions(&self) -> Vec<DVec3> {
+        (0..self.len()).map(|i| self.file_position(i)).collect()
+    }
+
+    /// The largest atom radius (0 for an empty molecule).
+    pub fn max_radius(&self) -> f32 {
+        self.atoms.iter().map(|a| a.radius).fold(0.0, f32::max)
+    }
+
+    /// Distance from the centre to the farthest atom surface.
+    pub fn bounding_radius(&self) -> f64 {
+        self.local
+            .iter()
+            .zip(&self.atoms)
+            .map(|(p, a)| f64::from(p.length()) + f64::from(a.radius))
+            .fold(0.0, f64::max)
+    }
+}

@@ -1,0 +1,914 @@
+//! Reading PDB and mmCIF files (plain or gzipped) through `pdbtbx`.
+//!
+//! The file is read and, when it starts with the gzip magic bytes, decompressed
+//! here (so `.pdb.gz`, `.ent.gz` and `.cif.gz` all work, whatever the case of
+//! the extension). Bytes outside ASCII are replaced by `?` before parsing:
+//! `pdbtbx` slices PDB lines by byte offset and would panic on them, and no
+//! coordinate field may contain them.
+//!
+//! PDB lines are then normalised before `pdbtbx` sees them, one line in, one
+//! line out, so every line number it reports is still the file's:
+//! - `ATOM`/`HETATM` lines shorter than 80 columns are padded (`pdbtbx` rejects
+//!   lines that end before the element column, which many programs write);
+//! - a blank occupancy becomes `1.00` and a blank B-factor `0.00`;
+//! - a blank element column is filled with the element guessed from the atom
+//!   name (see [`guess_pdb_element`]). `pdbtbx` would otherwise take the whole
+//!   name as the element, so `CA` (C-alpha) would become calcium.
+//!
+//! For mmCIF, only the first data block's `_atom_site` loop is handed to
+//! `pdbtbx` (it panics on some other categories, e.g. a `_symmetry` block
+//! without `Int_Tables_number`, as in 3NZD); mmCIF errors carry no line numbers.
+//!
+//! `pdbtbx` runs at [`StrictnessLevel::Loose`], reads only the first model and,
+//! for PDB files, only the coordinate records (`ATOM`, `HETATM`, `MODEL`,
+//! `ENDMDL`, `TER`, `END`: its `only_atomic_coords` option). The other records
+//! are not needed, and `pdbtbx` panics or fails on some real ones (a `CRYST1`
+//! space group it does not know, such as `H 3` in 1U72; a `REMARK` line without
+//! a number).
+//! Its non-fatal findings become warnings; a fatal one becomes
+//! [`LoadError::Parse`] with the line number where its context has one. A
+//! `pdbtbx` panic (it has `expect`s on malformed input) is caught and reported
+//! as a parse error too.
+//!
+//! Alternate locations: `pdbtbx` copies the atoms without an alt-loc into every
+//! alternate conformer of their residue (dividing their occupancy). The copies
+//! are recognised (same serial, name and position) and kept once. For each atom
+//! site (chain, residue number, insertion code, atom name) the alternate with the
+//! highest occupancy is kept, ties going to the alt-loc that appears first in the
+//! file. Residues whose alternates have different residue names
+//! (microheterogeneity) are resolved per atom name in the same way.
+//!
+//! `pdbtbx` groups atoms by chain; when the serial numbers are all distinct the
+//! atoms are put back in serial order, which is file order in any ordinary file.
+
+use std::collections::{HashMap, HashSet};
+use std::io::{BufReader, Read};
+use std::path::Path;
+
+use glam::DVec3;
+use pdbtbx::{Atom, Context, Format, PDBError, ReadOptions, StrictnessLevel};
+
+use super::element::{self, UNKNOWN_RADIUS};
+use super::{AtomInfo, Hydrogens, LoadError, LoadOptions, Loaded, RadiiSet, Structure};
+
+/// At most this many parser warnings are reported one by one; the rest are counted.
+const MAX_PARSER_WARNINGS: usize = 20;
+
+/// Reads a PDB or mmCIF file, plain or gzipped, keeping the first model.
+///
+/// The format is chosen by extension (`.cif`/`.mmcif`, optionally followed by
+/// `.gz`, is mmCIF; anything else is PDB). Alternate locations are resolved to
+/// the highest-occupancy conformer per atom, hydrogens are dropped when
+/// `opts.hydrogens` says so, and every atom gets its radius from `opts.radii`
+/// ([`UNKNOWN_RADIUS`] and one warning per element the table lacks).
+///
+/// # Errors
+/// [`LoadError::Io`] when the file cannot be read, [`LoadError::Parse`] when it
+/// is not valid gzip or `pdbtbx` rejects it, [`LoadError::NoAtoms`] when no atom
+/// is left.
+pub fn load_pdbtbx(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
+    let label = path.display().to_string();
+    let bytes = read_bytes(path)?;
+    let text = ascii_text(bytes);
+    let format = if is_mmcif_name(&label) {
+        Format::Mmcif
+    } else {
+        Format::Pdb
+    };
+    parse_text(&text, format, &label, &file_name(path), opts)
+}
+
+/// Reads a file into memory, decompressing it when it starts with the gzip
+/// magic bytes (concatenated gzip members are read to the end).
+pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>, LoadError> {
+    let label = path.display().to_string();
+    let raw = std::fs::read(path).map_err(|source| LoadError::Io {
+        path: label.clone(),
+        source,
+    })?;
+    if raw.starts_with(&[0x1f, 0x8b]) {
+        let mut out = Vec::with_capacity(raw.len() * 4);
+        flate2::read::MultiGzDecoder::new(raw.as_slice())
+            .read_to_end(&mut out)
+            .map_err(|e| LoadError::Parse {
+                path: label,
+                line: None,
+                reason: format!("cannot decompress gzip data: {e}"),
+            })?;
+        Ok(out)
+    } else {
+        Ok(raw)
+    }
+}
+
+/// The last component of `path`, for labels (the whole path when it has none).
+pub(crate) fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}
+
+/// Looks up radii and remembers the elements the table lacks, for one warning each.
+pub(crate) struct RadiusLookup {
+    radii: RadiiSet,
+    /// Unknown elements in first-seen order, with their atom counts.
+    unknown: Vec<(String, usize)>,
+}
+
+impl RadiusLookup {
+    /// A lookup in `radii`.
+    pub(crate) fn new(radii: RadiiSet) -> Self {
+        Self {
+            radii,
+            unknown: Vec::new(),
+        }
+    }
+
+    /// The radius of `element` (normalised symbol), or [`UNKNOWN_RADIUS`].
+    pub(crate) fn radius(&mut self, element: &str) -> f32 {
+        if let Some(r) = self.radii.radius(element) {
+            return r;
+        }
+        if let Some(entry) = self.unknown.iter_mut().find(|(e, _)| e == element) {
+            entry.1 += 1;
+        } else {
+            self.unknown.push((element.to_string(), 1));
+        }
+        UNKNOWN_RADIUS
+    }
+
+    /// One warning per unknown element, naming the file.
+    pub(crate) fn warnings(&self, label: &str) -> Vec<String> {
+        self.unknown
+            .iter()
+            .map(|(e, n)| {
+                let shown = if e.is_empty() { "(none)" } else { e.as_str() };
+                format!(
+                    "{label}: element {shown} has no van der Waals radius in the {} table; \
+                     using {UNKNOWN_RADIUS} Å for its {n} atom{}",
+                    self.radii.name(),
+                    if *n == 1 { "" } else { "s" }
+                )
+            })
+            .collect()
+    }
+}
+
+/// True when the (possibly gzipped) name ends in `.cif` or `.mmcif`.
+fn is_mmcif_name(name: &str) -> bool {
+    let lower = name.to_ascii_lowercase();
+    let stem = lower.strip_suffix(".gz").unwrap_or(&lower);
+    stem.ends_with(".cif") || stem.ends_with(".mmcif")
+}
+
+/// The bytes as text, every non-ASCII byte replaced by `?`.
+fn ascii_text(mut bytes: Vec<u8>) -> String {
+    for b in &mut bytes {
+        if !b.is_ascii() {
+            *b = b'?';
+        }
+    }
+    // Every byte is ASCII now, so this cannot fail; keep a lossy path anyway.
+    String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
+}
+
+/// Parses PDB or mmCIF text already in memory. `label` names the source in
+/// messages; `name` becomes [`Structure::name`].
+fn parse_text(
+    text: &str,
+    format: Format,
+    label: &str,
+    name: &str,
+    opts: &LoadOptions,
+) -> Result<Loaded, LoadError> {
+    let normalised;
+    let input = if matches!(format, Format::Pdb) {
+        normalised = normalise_pdb(text);
+        normalised.as_str()
+    } else if let Some(atoms_only) = mmcif_atom_site_only(text) {
+        normalised = atoms_only;
+        normalised.as_str()
+    } else {
+        text
+    };
+    let mut read_options = ReadOptions::new();
+    read_options
+        .set_format(format)
+        .set_level(StrictnessLevel::Loose)
+        .set_only_first_model(true)
+        .set_only_atomic_coords(true);
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        read_options.read_raw(BufReader::new(input.as_bytes()))
+    }));
+    let (pdb, parser_warnings) = match result {
+        Ok(Ok(ok)) => ok,
+        Ok(Err(errors)) => {
+            // pdbtbx's own validation refuses a file without atoms.
+            let mut fatal = errors
+                .iter()
+                .filter(|e| e.fails(StrictnessLevel::Loose))
+                .peekable();
+            if fatal.peek().is_some() && fatal.all(|e| e.short_description() == "No Atoms") {
+                return Err(LoadError::NoAtoms {
+                    path: label.to_string(),
+                });
+            }
+            return Err(fatal_error(label, &errors));
+        }
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown failure".to_string());
+            return Err(LoadError::Parse {
+                path: label.to_string(),
+                line: None,
+                reason: format!("the PDB/mmCIF parser gave up: {what}"),
+            });
+        }
+    };
+
+    let mut warnings = parser_warning_lines(label, &parser_warnings);
+    let mut lookup = RadiusLookup::new(opts.radii);
+    let mut atoms = Vec::new();
+    let mut positions = Vec::new();
+    if let Some(model) = pdb.model(0) {
+        let mut sites = Vec::new();
+        for chain in model.chains() {
+            for residue in chain.residues() {
+                let (seq, icode) = residue.id();
+                let first = sites.len();
+                for conformer in residue.conformers() {
+                    for atom in conformer.atoms() {
+                        sites.push(Site {
+                            atom,
+                            chain: chain.id(),
+                            residue: conformer.name(),
+                            seq,
+                            insertion: icode.unwrap_or(""),
+                        });
+                    }
+                }
+                if residue.conformer_count() > 1 {
+                    resolve_alternates(&mut sites, first);
+                }
+            }
+        }
+        order_by_serial(&mut sites);
+        for site in sites {
+            let atom = site.atom;
+            let element = atom.element().map_or_else(
+                || guess_from_name(atom.name()),
+                |e| element::normalize_symbol(e.symbol()),
+            );
+            if opts.hydrogens == Hydrogens::Drop && element::is_hydrogen(&element) {
+                continue;
+            }
+            let radius = lookup.radius(&element);
+            atoms.push(AtomInfo {
+                serial: i64::try_from(atom.serial_number()).unwrap_or(i64::MAX),
+                name: atom.name().to_string(),
+                residue: site.residue.to_string(),
+                seq: i64::try_from(site.seq).unwrap_or(0),
+                insertion: site.insertion.to_string(),
+                chain: site.chain.to_string(),
+                polar: element::is_polar(&element),
+                element,
+                radius,
+                hetero: atom.hetero(),
+            });
+            let (x, y, z) = atom.pos();
+            positions.push(DVec3::new(x, y, z));
+        }
+    }
+    if atoms.is_empty() {
+        return Err(LoadError::NoAtoms {
+            path: label.to_string(),
+        });
+    }
+    warnings.extend(lookup.warnings(label));
+    Ok(Loaded {
+        structure: Structure {
+            name: name.to_string(),
+            atoms,
+            positions,
+        },
+        warnings,
+    })
+}
+
+/// One atom with the hierarchy it came from.
+struct Site<'a> {
+    atom: &'a Atom,
+    chain: &'a str,
+    residue: &'a str,
+    seq: isize,
+    insertion: &'a str,
+}
+
+/// Keeps one atom per site among `sites[first..]` (one residue's conformers):
+/// copies of shared atoms are dropped, then per atom name the highest
+/// occupancy wins, ties to the earliest.
+fn resolve_alternates(sites: &mut Vec<Site<'_>>, first: usize) {
+    let tail: Vec<Site<'_>> = sites.drain(first..).collect();
+    let mut seen: HashSet<(usize, &str, [u64; 3])> = HashSet::new();
+    let mut best: Vec<Site<'_>> = Vec::new();
+    let mut slot: HashMap<&str, usize> = HashMap::new();
+    for site in tail {
+        let a = site.atom;
+        let (x, y, z) = a.pos();
+        if !seen.insert((
+            a.serial_number(),
+            a.name(),
+            [x.to_bits(), y.to_bits(), z.to_bits()],
+        )) {
+            continue;
+        }
+        match slot.get(a.name()) {
+            Some(&i) => {
+                if a.occupancy() > best[i].atom.occupancy() {
+                    best[i] = site;
+                }
+            }
+            None => {
+                slot.insert(a.name(), best.len());
+                best.push(site);
+            }
+        }
+    }
+    sites.extend(best);
+}
+
+/// Sorts by serial number when the serials are all distinct (file order in an
+/// ordinary file); otherwise leaves `pdbtbx`'s chain-grouped order.
+fn order_by_serial(sites: &mut [Site<'_>]) {
+    if sites
+        .windows(2)
+        .all(|w| w[0].atom.serial_number() < w[1].atom.serial_number())
+    {
+        return;
+    }
+    let mut serials: Vec<usize> = sites.iter().map(|s| s.atom.serial_number()).collect();
+    serials.sort_unstable();
+    if serials.windows(2).all(|w| w[0] != w[1]) {
+        sites.sort_by_key(|s| s.atom.serial_number());
+    }
+}
+
+/// The error for a failed `pdbtbx` read: the first fatal finding, with its line.
+fn fatal_error(label: &str, errors: &[PDBError]) -> LoadError {
+    let fatal: Vec<&PDBError> = errors
+        .iter()
+        .filter(|e| e.fails(StrictnessLevel::Loose))
+        .collect();
+    let Some(first) = fatal.first().copied().or(errors.first()) else {
+        return LoadError::Parse {
+            path: label.to_string(),
+            line: None,
+            reason: "the PDB/mmCIF parser failed without saying why".to_string(),
+        };
+    };
+    let mut reason = describe(first);
+    if fatal.len() > 1 {
+        reason.push_str(&format!(" (and {} more errors)", fatal.len() - 1));
+    }
+    LoadError::Parse {
+        path: label.to_string(),
+        line: context_line(first.context()),
+        reason,
+    }
+}
+
+/// `short: long`, on one line.
+fn describe(e: &PDBError) -> String {
+    let long = e.long_description().trim();
+    let short = e.short_description().trim();
+    let mut text = if long.is_empty() {
+        short.to_string()
+    } else {
+        format!("{short}: {long}")
+    };
+    if let Context::Show { line } = e.context()
+        && !line.trim().is_empty()
+    {
+        text.push_str(&format!(" [{}]", line.trim()));
+    }
+    text.replace('\n', " ")
+}
+
+/// The 1-based line number a `pdbtbx` context points at, if any.
+fn context_line(c: &Context) -> Option<usize> {
+    match c {
+        Context::FullLine { linenumber, .. } | Context::Line { linenumber, .. } => {
+            Some(*linenumber)
+        }
+        Context::Range {
+            start_linenumber, ..
+        }
+        | Context::RangeHighlights {
+            start_linenumber, ..
+        } => Some(*start_linenumber),
+        Context::Multiple { contexts } => contexts.iter().find_map(|(_, c)| context_line(c)),
+        Context::None | Context::Show { .. } => None,
+    }
+}
+
+/// The parser's non-fatal findings as messages, at most [`MAX_PARSER_WARNINGS`].
+fn parser_warning_lines(label: &str, warnings: &[PDBError]) -> Vec<String> {
+    let mut out: Vec<String> = warnings
+        .iter()
+        .take(MAX_PARSER_WARNINGS)
+        .map(|w| match context_line(w.context()) {
+            Some(l) => format!("{label}:{l}: {}", describe(w)),
+            None => format!("{label}: {}", describe(w)),
+        })
+        .collect();
+    if warnings.len() > MAX_PARSER_WARNINGS {
+        out.push(format!(
+            "{label}: ... and {} more parser warnings",
+            warnings.len() - MAX_PARSER_WARNINGS
+        ));
+    }
+    out
+}
+
+/// The first data block's `_atom_site` loop alone, as mmCIF text, or `None`
+/// when it cannot be cut out simply (no such loop, or a `;` text field in it),
+/// in which case the whole text goes to `pdbtbx`.
+fn mmcif_atom_site_only(text: &str) -> Option<String> {
+    let mut lines = text.lines().map(str::trim);
+    let data = lines.by_ref().find(|l| l.starts_with("data_"))?;
+    let mut out = String::with_capacity(text.len() / 2);
+    out.push_str(data);
+    out.push_str("\nloop_\n");
+    let mut in_loop = false;
+    let mut header = false;
+    for line in lines {
+        let lower_start = |p: &str| {
+            line.get(..p.len())
+                .is_some_and(|s| s.eq_ignore_ascii_case(p))
+        };
+        if !in_loop {
+            if lower_start("data_") {
+                return None;
+            }
+            if line.eq_ignore_ascii_case("loop_") {
+                in_loop = true;
+                header = true;
+            }
+            continue;
+        }
+        if header {
+            if lower_start("_atom_site.") {
+                out.push_str(line);
+                out.push('\n');
+                continue;
+            }
+            if !out.ends_with("loop_\n") {
+                header = false;
+            } else {
+                // Another category's loop: look for the next one.
+                in_loop = line.eq_ignore_ascii_case("loop_");
+                continue;
+            }
+        }
+        if line.starts_with('_')
+            || line.starts_with('#')
+            || lower_start("loop_")
+            || lower_start("data_")
+            || lower_start("stop_")
+            || lower_start("save_")
+            || lower_start("global_")
+        {
+            break;
+        }
+        if line.starts_with(';') {
+            return None;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    if out.ends_with("loop_\n") {
+        None
+    } else {
+        Some(out)
+    }
+}
+
+/// Normalises the `ATOM`/`HETATM` lines of PDB text (see the module docs);
+/// other lines pass unchanged. Line count and order are kept.
+fn normalise_pdb(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + text.len() / 8);
+    for line in text.lines() {
+        if line.starts_with("ATOM  ") || line.starts_with("HETATM") {
+            normalise_atom_line(line, &mut out);
+        } else {
+            out.push_str(line);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// Pads an atom line to 80 columns and fills blank occupancy, B-factor and
+/// element fields. Lines too short to hold coordinates are left for `pdbtbx`
+/// to reject.
+fn normalise_atom_line(line: &str, out: &mut String) {
+    if line.len() < 54 || !line.is_ascii() {
+        out.push_str(line);
+        return;
+    }
+    let mut b: Vec<u8> = line.as_bytes().to_vec();
+    if b.len() < 80 {
+        b.resize(80, b' ');
+    }
+    let blank = |b: &[u8], r: std::ops::Range<usize>| b[r].iter().all(|c| *c == b' ');
+    if blank(&b, 54..60) {
+        b[54..60].copy_from_slice(b"  1.00");
+    }
+    if blank(&b, 60..66) {
+        b[60..66].copy_from_slice(b"  0.00");
+    }
+    if blank(&b, 76..78) {
+        let name = std::str::from_utf8(&b[12..16]).unwrap_or("");
+        let residue = std::str::from_utf8(&b[17..20]).unwrap_or("");
+        if let Some(e) = guess_pdb_element(name, residue) {
+            let e = e.to_ascii_uppercase();
+            let bytes = e.as_bytes();
+            if bytes.len() == 1 {
+                b[77] = bytes[0];
+            } else if bytes.len() == 2 {
+                b[76..78].copy_from_slice(bytes);
+            }
+        }
+    }
+    // Every byte came from an ASCII line or is ASCII padding.
+    out.push_str(std::str::from_utf8(&b).unwrap_or(line));
+}
+
+/// Residue names whose atoms are only C, N, O, S, P and H: amino acids (with
+/// common protonation-state names), nucleotides and caps. Their atom names
+/// start with the element letter, whatever the column alignment.
+const POLYMER_RESIDUES: &[&str] = &[
+    "ALA", "ARG", "ASN", "ASP", "CYS", "GLN", "GLU", "GLY", "HIS", "ILE", "LEU", "LYS", "MET",
+    "PHE", "PRO", "SER", "THR", "TRP", "TYR", "VAL", "HID", "HIE", "HIP", "HSD", "HSE", "HSP",
+    "CYX", "ASH", "GLH", "LYN", "ACE", "NME", "NMA", "DA", "DC", "DG", "DT", "DU", "DI", "A", "C",
+    "G", "U", "I",
+];
+
+/// Guesses an element from a PDB atom-name field (columns 13–16, unstripped)
+/// and its residue name, by the PDB convention that the element symbol is
+/// right-justified in columns 13–14:
+/// - in standard polymer residues and waters, the first letter of the name;
+/// - when column 13 is blank or a digit, the first letter (`" CA "` is carbon);
+/// - when column 13 is a letter: a four-character name starting with `H` is
+///   hydrogen (`HG21`); a name whose letters are exactly two and form an
+///   element symbol, or equal the residue name, is that element (`FE`,
+///   `CL1 `, `CA` in residue `CA`); otherwise the first letter.
+///
+/// `None` when the name has no letter.
+pub fn guess_pdb_element(name: &str, residue: &str) -> Option<String> {
+    let trimmed = name.trim();
+    let letters: String = trimmed
+        .chars()
+        .skip_while(|c| c.is_ascii_digit())
+        .take_while(|c| c.is_ascii_alphabetic())
+        .collect();
+    let first = letters.chars().next()?.to_ascii_uppercase().to_string();
+    let residue = residue.trim().to_ascii_uppercase();
+    if POLYMER_RESIDUES.contains(&residue.as_str()) || super::is_water(&residue) {
+        return Some(first);
+    }
+    let col13_letter = name.chars().next().is_some_and(|c| c.is_ascii_alphabetic());
+    if !col13_letter || letters.len() < 2 {
+        return Some(first);
+    }
+    if first == "H" && trimmed.len() == 4 {
+        return Some(first);
+    }
+    let upper = letters.to_ascii_uppercase();
+    let two = &upper[..2];
+    if (letters.len() == 2 || upper == residue) && pdbtbx::Element::from_symbol(two).is_some() {
+        return Some(element::normalize_symbol(two));
+    }
+    Some(first)
+}
+
+/// The element for an atom `pdbtbx` could not type: the first letter of its
+/// name (after any leading digits), or `X`.
+fn guess_from_name(name: &str) -> String {
+    name.chars()
+        .find(|c| c.is_ascii_alphabetic())
+        .map_or_else(|| "X".to_string(), |c| c.to_ascii_uppercase().to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
+    use super::*;
+
+    /// The shared test-data folder, or `None` (after saying so) when it is
+    /// missing outside CI. In CI a missing folder fails the test.
+    use crate::model::test_data_dir as data_dir;
+
+    fn load(name: &str, hydrogens: Hydrogens) -> Option<Loaded> {
+        let dir = data_dir()?;
+        let opts = LoadOptions {
+            hydrogens,
+            ..LoadOptions::default()
+        };
+        Some(load_pdbtbx(&dir.join(name), &opts).unwrap_or_else(|e| panic!("{name}: {e}")))
+    }
+
+    fn parse_pdb_text(text: &str) -> Result<Loaded, LoadError> {
+        parse_text(
+            text,
+            Format::Pdb,
+            "inline.pdb",
+            "inline.pdb",
+            &LoadOptions::default(),
+        )
+    }
+
+    #[test]
+    fn element_guessing_follows_pdb_alignment() {
+        let g = |n: &str, r: &str| guess_pdb_element(n, r).unwrap();
+        assert_eq!(g(" CA ", "ALA"), "C");
+        assert_eq!(g("CA  ", "ALA"), "C"); // left-aligned, but a polymer residue
+        assert_eq!(g("CA  ", "CA"), "Ca");
+        assert_eq!(g("FE  ", "HEM"), "Fe");
+        assert_eq!(g(" C1 ", "TOP"), "C");
+        assert_eq!(g("CL1 ", "LIG"), "Cl");
+        assert_eq!(g("CAB ", "LIG"), "C");
+        assert_eq!(g("HG21", "LIG"), "H");
+        assert_eq!(g("1HG2", "LIG"), "H");
+        assert_eq!(g(" OH2", "TIP"), "O");
+        assert!(guess_pdb_element(" 12 ", "LIG").is_none());
+    }
+
+    #[test]
+    fn one_ubq_pdb_and_cif_agree() {
+        let Some(pdb) = load("1ubq.pdb", Hydrogens::Drop) else {
+            return;
+        };
+        let cif = load("1ubq.cif", Hydrogens::Drop).unwrap();
+        assert_eq!(pdb.structure.atoms.len(), 660);
+        assert_eq!(pdb.structure.atoms.len(), cif.structure.atoms.len());
+        assert_eq!(pdb.structure.name, "1ubq.pdb");
+        let a = &pdb.structure.atoms[1];
+        assert_eq!((a.name.as_str(), a.residue.as_str()), ("CA", "MET"));
+        assert_eq!((a.element.as_str(), a.chain.as_str(), a.seq), ("C", "A", 1));
+        assert_eq!(a.serial, 2);
+        assert!(!a.hetero);
+        assert!(pdb.structure.atoms.last().unwrap().hetero);
+        for (p, c) in pdb.structure.positions.iter().zip(&cif.structure.positions) {
+            assert!((*p - *c).length() < 1e-3);
+        }
+    }
+
+    #[test]
+    fn file_order_is_kept_across_chains() {
+        let Some(l) = load("4dfr.pdb", Hydrogens::Drop) else {
+            return;
+        };
+        let serials: Vec<i64> = l.structure.atoms.iter().map(|a| a.serial).collect();
+        assert!(serials.windows(2).all(|w| w[0] < w[1]));
+    }
+
+    #[test]
+    fn real_alt_locs_keep_the_higher_occupancy() {
+        // 4dfr SER A 64 and HIS B 45 have A (1.00) and B (< 1) conformers.
+        let Some(l) = load("4dfr.pdb", Hydrogens::Drop) else {
+            return;
+        };
+        let ser: Vec<&AtomInfo> = l
+            .structure
+            .atoms
+            .iter()
+            .filter(|a| a.chain == "A" && a.seq == 64)
+            .collect();
+        assert_eq!(ser.len(), 6);
+        let serials: Vec<i64> = ser.iter().map(|a| a.serial).collect();
+        assert_eq!(serials, vec![498, 500, 502, 504, 506, 508]);
+        let his = l
+            .structure
+            .atoms
+            .iter()
+            .filter(|a| a.chain == "B" && a.seq == 45)
+            .count();
+        assert_eq!(his, 10);
+    }
+
+    #[test]
+    fn inline_alt_locs_pick_highest_occupancy_and_keep_shared_atoms() {
+        let text = "\
+ATOM      1  N   SER A   1       0.000   0.000   0.000  1.00 10.00           N
+ATOM      2  CA  SER A   1       1.000   0.000   0.000  1.00 10.00           C
+ATOM      3  CB ASER A   1       2.000   0.000   0.000  0.30 10.00           C
+ATOM      4  CB BSER A   1       2.000   1.000   0.000  0.70 10.00           C
+ATOM      5  OG ASER A   1       3.000   0.000   0.000  0.50 10.00           O
+ATOM      6  OG BSER A   1       3.000   1.000   0.000  0.50 10.00           O
+ATOM      7  C   SER A   1       1.000   1.000   1.000  1.00 10.00           C
+END
+";
+        let l = parse_pdb_text(text).unwrap();
+        let s = &l.structure;
+        let serials: Vec<i64> = s.atoms.iter().map(|a| a.serial).collect();
+        assert_eq!(serials, vec![1, 2, 4, 5, 7]);
+        assert_eq!(s.positions[2], DVec3::new(2.0, 1.0, 0.0));
+    }
+
+    #[test]
+    fn short_lines_without_elements_are_read() {
+        // Columns end at 66: no element, no segment id.
+        let text = "\
+ATOM      1  N   MET     1      38.296  20.158  39.260  1.00  0.00
+ATOM      2  CA  MET     1      37.000  20.000  39.000
+HETATM    3 CA    CA     2      30.000  20.000  39.000  1.00  0.00
+HETATM    4  O   HOH     3      31.000  20.000  39.000  1.00  0.00
+";
+        let l = parse_pdb_text(text).unwrap();
+        let els: Vec<&str> = l
+            .structure
+            .atoms
+            .iter()
+            .map(|a| a.element.as_str())
+            .collect();
+        assert_eq!(els, vec!["N", "C", "Ca", "O"]);
+    }
+
+    #[test]
+    fn solvated_file_without_element_columns_loads() {
+        let Some(l) = load("5dfr_solvated.pdb", Hydrogens::Keep) else {
+            return;
+        };
+        assert_eq!(l.structure.atoms.len(), 23558);
+        assert!(l.structure.atoms.iter().all(|a| a.radius != UNKNOWN_RADIUS));
+        let heavy = load("5dfr_solvated.pdb", Hydrogens::Drop).unwrap();
+        assert!(heavy.structure.atoms.iter().all(|a| a.element != "H"));
+    }
+
+    #[test]
+    fn bad_coordinate_is_a_parse_error_with_its_line() {
+        let text = "\
+HEADER    TEST
+ATOM      1  N   MET A   1      38.296  20.158  39.260  1.00  0.00           N
+ATOM      2  CA  MET A   1      3x.000  20.000  39.000  1.00  0.00           C
+";
+        match parse_pdb_text(text) {
+            Err(LoadError::Parse { line, .. }) => assert_eq!(line, Some(3)),
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn only_the_first_model_is_read() {
+        let text = "\
+MODEL        1
+ATOM      1  N   MET A   1       0.000   0.000   0.000  1.00  0.00           N
+ATOM      2  CA  MET A   1       1.000   0.000   0.000  1.00  0.00           C
+ENDMDL
+MODEL        2
+ATOM      1  N   MET A   1       5.000   0.000   0.000  1.00  0.00           N
+ATOM      2  CA  MET A   1       6.000   0.000   0.000  1.00  0.00           C
+ENDMDL
+END
+";
+        let l = parse_pdb_text(text).unwrap();
+        assert_eq!(l.structure.atoms.len(), 2);
+        assert_eq!(l.structure.positions[1], DVec3::new(1.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn parser_panic_becomes_parse_error() {
+        // pdbtbx `expect`s an element: `?` makes it panic.
+        let text = "data_T\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n\
+                    _atom_site.label_atom_id\n_atom_site.label_comp_id\n_atom_site.label_asym_id\n\
+                    _atom_site.label_seq_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n\
+                    ATOM 1 ? N MET A 1 0.0 0.0 0.0\n";
+        let r = parse_text(
+            text,
+            Format::Mmcif,
+            "t.cif",
+            "t.cif",
+            &LoadOptions::default(),
+        );
+        assert!(matches!(r, Err(LoadError::Parse { .. })), "{r:?}");
+    }
+
+    #[test]
+    fn no_atoms_is_no_atoms() {
+        let r = parse_pdb_text("HEADER    NOTHING HERE\nEND\n");
+        assert!(matches!(r, Err(LoadError::NoAtoms { .. })), "{r:?}");
+    }
+
+    #[test]
+    fn missing_file_is_io() {
+        let r = load_pdbtbx(Path::new("/nonexistent/x.pdb"), &LoadOptions::default());
+        assert!(matches!(r, Err(LoadError::Io { .. })));
+    }
+
+    #[test]
+    fn unknown_elements_get_default_radius_and_one_warning_each() {
+        let Some(l) = load("1dt6.pdb", Hydrogens::Drop) else {
+            return;
+        };
+        for sym in ["Fe", "Sm"] {
+            let atoms: Vec<&AtomInfo> = l
+                .structure
+                .atoms
+                .iter()
+                .filter(|a| a.element == sym)
+                .collect();
+            assert_eq!(atoms.len(), 1, "{sym}");
+            assert_eq!(atoms[0].radius, UNKNOWN_RADIUS);
+            let n = l
+                .warnings
+                .iter()
+                .filter(|w| w.contains(&format!("element {sym} ")) && w.contains("1dt6.pdb"))
+                .count();
+            assert_eq!(n, 1, "{sym}: {:?}", l.warnings);
+        }
+    }
+
+    #[test]
+    fn parser_warnings_are_capped() {
+        let warnings: Vec<PDBError> = (0..30)
+            .map(|i| {
+                PDBError::new(
+                    pdbtbx::ErrorLevel::GeneralWarning,
+                    "w",
+                    "x",
+                    Context::full_line(i + 1, "L"),
+                )
+            })
+            .collect();
+        let lines = parser_warning_lines("f.pdb", &warnings);
+        assert_eq!(lines.len(), MAX_PARSER_WARNINGS + 1);
+        assert_eq!(lines[0], "f.pdb:1: w: x");
+        assert!(lines[MAX_PARSER_WARNINGS].contains("10 more"));
+    }
+
+    #[test]
+    fn mmcif_with_symmetry_pdbtbx_rejects_loads() {
+        let Some(l) = load("3nzd.cif", Hydrogens::Drop) else {
+            return;
+        };
+        // 1866 rows, 23 of them the B half of equal-occupancy (0.50) alt-loc pairs.
+        assert_eq!(l.structure.atoms.len(), 1866 - 23);
+        let ca = l
+            .structure
+            .atoms
+            .iter()
+            .position(|a| a.seq == 59 && a.name == "CA")
+            .unwrap();
+        assert_eq!(l.structure.atoms[ca].serial, 461); // ties go to the first (A)
+        assert!((l.structure.positions[ca].x - -9.053).abs() < 1e-9);
+        let d2q = l
+            .structure
+            .atoms
+            .iter()
+            .filter(|a| a.residue == "D2Q")
+            .count();
+        assert_eq!(d2q, 32);
+    }
+
+    #[test]
+    fn atom_site_loop_is_cut_out() {
+        let text = "data_X\n#\nloop_\n_cell.a\n1\n#\nloop_\n_atom_site.id\n_atom_site.x\n1 2.0\n2 3.0\n#\n_other.a 1\n";
+        let cut = mmcif_atom_site_only(text).unwrap();
+        assert_eq!(
+            cut,
+            "data_X\nloop_\n_atom_site.id\n_atom_site.x\n1 2.0\n2 3.0\n"
+        );
+        assert!(mmcif_atom_site_only("data_X\nloop_\n_cell.a\n1\n").is_none());
+    }
+
+    #[test]
+    fn gzipped_pdb_loads() {
+        let Some(l) = load("2btv.pdb.gz", Hydrogens::Drop) else {
+            return;
+        };
+        assert_eq!(l.structure.atoms.len(), 49061);
+    }
+
+    #[test]
+    fn large_gzipped_mmcif_loads() {
+        let Some(l) = load("1f2n_assembly1.cif.gz", Hydrogens::Drop) else {
+            return;
+        };
+        assert_eq!(l.structure.atoms.len(), 271_860);
+    }
+
+    #[test]
+    fn hydrogens_kept_or_dropped() {
+        let Some(keep) = load("6xg5_tmp_prepared.pdb", Hydrogens::Keep) else {
+            return;
+        };
+        let drop = load("6xg5_tmp_prepared.pdb", Hydrogens::Drop).unwrap();
+        assert_eq!(keep.structure.atoms.len(), 2491 + 39);
+        assert_eq!(drop.structure.atoms.len(), 1268 + 21);
+    }
+}

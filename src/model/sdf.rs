@@ -1,0 +1,659 @@
+//! Reading MDL SDF / molfile records (V2000 and V3000), plain or gzipped.
+//!
+//! A file holds records separated by `$$$$` lines; [`LoadOptions::sdf_record`]
+//! picks one (1-based, the first by default). Only the atom block is read:
+//! coordinates and element symbols. Bonds and properties are skipped.
+//!
+//! V2000: the counts line (record line 4) gives the atom count in columns 1–3;
+//! each atom line holds x, y, z in columns 1–10, 11–20, 21–30 and the symbol in
+//! 32–34. A line that does not fit the columns is read as whitespace-separated
+//! fields instead (some writers do not pad). V3000: the `M  V30` lines (with
+//! `-` continuation) between `BEGIN ATOM` and `END ATOM`, checked against the
+//! `COUNTS` line.
+//!
+//! Every problem is a [`LoadError::Parse`] carrying the 1-based line number in
+//! the file: a malformed counts line, a short atom line, a non-numeric or
+//! non-finite coordinate, and an atom count that disagrees with the atom lines
+//! present (too few, or an atom line where the block should have ended).
+//!
+//! Atoms get serial = 1-based order in the record (counted before hydrogens are
+//! dropped, so serials match the file), name = element + serial (`C3`),
+//! residue = the record's title line trimmed and cut to 8 characters (`LIG`
+//! when blank), sequence number 0, no chain, hetero set.
+
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::element;
+use super::pdb::{RadiusLookup, file_name, read_bytes};
+use super::{AtomInfo, Hydrogens, LoadError, LoadOptions, Loaded, Structure};
+
+/// Longest residue label taken from a record's title line.
+const MAX_RESIDUE_CHARS: usize = 8;
+
+/// Reads one record of an SDF or MOL file (plain, or gzipped `.sdf.gz`).
+///
+/// # Errors
+/// [`LoadError::Io`] for an unreadable file; [`LoadError::Parse`] with the
+/// file's line number for malformed content or a record number past the end;
+/// [`LoadError::NoAtoms`] for a file without records or a record without atoms
+/// left.
+pub fn load_sdf(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
+    let bytes = read_bytes(path)?;
+    let text = String::from_utf8_lossy(&bytes);
+    let label = path.display().to_string();
+    let mut loaded = parse_sdf(&text, &label, opts)?;
+    loaded.structure.name = file_name(path);
+    Ok(loaded)
+}
+
+/// Parses SDF text already in memory. `path_label` names the source in
+/// messages; its last path component becomes [`Structure::name`].
+///
+/// # Errors
+/// As [`load_sdf`], less the I/O error.
+pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loaded, LoadError> {
+    let lines: Vec<&str> = text
+        .lines()
+        .map(|l| l.strip_suffix('\r').unwrap_or(l))
+        .collect();
+    let records = split_records(&lines);
+    let err = |line: Option<usize>, reason: String| LoadError::Parse {
+        path: path_label.to_string(),
+        line,
+        reason,
+    };
+    if records.is_empty() {
+        return Err(LoadError::NoAtoms {
+            path: path_label.to_string(),
+        });
+    }
+    let wanted = opts.sdf_record.unwrap_or(1);
+    if wanted == 0 {
+        return Err(err(None, "SDF record numbers start at 1".to_string()));
+    }
+    let Some(&(start, end)) = records.get(wanted - 1) else {
+        return Err(err(
+            None,
+            format!(
+                "asked for SDF record {wanted} but the file has {} record{}",
+                records.len(),
+                if records.len() == 1 { "" } else { "s" }
+            ),
+        ));
+    };
+    let record = Record {
+        lines: &lines[start..end],
+        first: start,
+        total: lines.len(),
+        label: path_label,
+    };
+    let parsed = record.parse()?;
+
+    let residue = {
+        let t = record.lines.first().map_or("", |l| l.trim());
+        if t.is_empty() {
+            "LIG".to_string()
+        } else {
+            t.chars().take(MAX_RESIDUE_CHARS).collect()
+        }
+    };
+    let mut lookup = RadiusLookup::new(opts.radii);
+    let mut atoms = Vec::with_capacity(parsed.len());
+    let mut positions = Vec::with_capacity(parsed.len());
+    for (i, (symbol, pos)) in parsed.into_iter().enumerate() {
+        let element = element::normalize_symbol(&symbol);
+        if opts.hydrogens == Hydrogens::Drop && element::is_hydrogen(&element) {
+            continue;
+        }
+        let serial = i + 1;
+        atoms.push(AtomInfo {
+            serial: i64::try_from(serial).unwrap_or(i64::MAX),
+            name: format!("{element}{serial}"),
+            residue: residue.clone(),
+            seq: 0,
+            insertion: String::new(),
+            chain: String::new(),
+            radius: lookup.radius(&element),
+            polar: element::is_polar(&element),
+            element,
+            hetero: true,
+        });
+        positions.push(pos);
+    }
+    if atoms.is_empty() {
+        return Err(LoadError::NoAtoms {
+            path: path_label.to_string(),
+        });
+    }
+    let mut warnings = Vec::new();
+    if records.len() > 1 {
+        warnings.push(format!(
+            "{path_label}: file holds {} records; using record {wanted}",
+            records.len()
+        ));
+    }
+    warnings.extend(lookup.warnings(path_label));
+    Ok(Loaded {
+        structure: Structure {
+            name: file_name(Path::new(path_label)),
+            atoms,
+            positions,
+        },
+        warnings,
+    })
+}
+
+/// Record boundaries as `(first, end)` 0-based line indices, `$$$$` excluded.
+/// Blank lines after the last `$$$$` make no record.
+fn split_records(lines: &[&str]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for (i, line) in lines.iter().enumerate() {
+        if line.trim_end() == "$$$$" {
+            out.push((start, i));
+            start = i + 1;
+        }
+    }
+    if lines[start..].iter().any(|l| !l.trim().is_empty()) {
+        out.push((start, lines.len()));
+    }
+    out
+}
+
+/// One record's lines and where they sit in the file.
+struct Record<'a> {
+    lines: &'a [&'a str],
+    /// 0-based index of the record's first line in the file.
+    first: usize,
+    /// Lines in the file.
+    total: usize,
+    label: &'a str,
+}
+
+/// Atoms as read: element symbol (as written) and position.
+type RawAtoms = Vec<(String, DVec3)>;
+
+impl Record<'_> {
+    /// The 1-based file line number of record line `i` (0-based), capped at the
+    /// file's last line.
+    fn line_no(&self, i: usize) -> usize {
+        (self.first + i + 1).min(self.total.max(1))
+    }
+
+    fn err(&self, i: usize, reason: impl Into<String>) -> LoadError {
+        LoadError::Parse {
+            path: self.label.to_string(),
+            line: Some(self.line_no(i)),
+            reason: reason.into(),
+        }
+    }
+
+    fn parse(&self) -> Result<RawAtoms, LoadError> {
+        let Some(counts) = self.lines.get(3) else {
+            return Err(self.err(
+                self.lines.len(),
+                "record ends before its counts line (line 4 of the record)",
+            ));
+        };
+        if counts.contains("V3000") {
+            self.parse_v3000()
+        } else {
+            self.parse_v2000(counts)
+        }
+    }
+
+    fn parse_v2000(&self, counts: &str) -> Result<RawAtoms, LoadError> {
+        let n_atoms = counts
+            .get(0..3)
+            .and_then(|f| f.trim().parse::<usize>().ok())
+            .or_else(|| {
+                counts
+                    .split_whitespace()
+                    .next()
+                    .and_then(|t| t.parse::<usize>().ok())
+            })
+            .ok_or_else(|| {
+                self.err(
+                    3,
+                    format!("malformed counts line (no atom count): {:?}", counts.trim()),
+                )
+            })?;
+        let mut atoms = Vec::with_capacity(n_atoms);
+        for k in 0..n_atoms {
+            let i = 4 + k;
+            let Some(line) = self.lines.get(i) else {
+                return Err(self.err(
+                    3,
+                    format!(
+                        "counts line says {n_atoms} atoms but the record ends after {k} atom lines"
+                    ),
+                ));
+            };
+            if line.starts_with("M  ") {
+                return Err(self.err(
+                    i,
+                    format!("counts line says {n_atoms} atoms but the atom block ends after {k}"),
+                ));
+            }
+            atoms.push(self.v2000_atom(i, line, k, n_atoms)?);
+        }
+        if let Some(next) = self.lines.get(4 + n_atoms)
+            && looks_like_v2000_atom(next)
+        {
+            return Err(self.err(
+                4 + n_atoms,
+                format!("counts line says {n_atoms} atoms but this line is another atom line"),
+            ));
+        }
+        Ok(atoms)
+    }
+
+    /// One V2000 atom line: fixed columns, else whitespace fields.
+    fn v2000_atom(
+        &self,
+        i: usize,
+        line: &str,
+        k: usize,
+        n_atoms: usize,
+    ) -> Result<(String, DVec3), LoadError> {
+        if let Some(atom) = fixed_v2000_atom(line) {
+            return Ok(atom);
+        }
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        if fields.len() < 4 {
+            return Err(self.err(
+                i,
+                format!(
+                    "atom line too short (need x, y, z and an element): {:?}",
+                    line.trim()
+                ),
+            ));
+        }
+        let pos = self.coords(i, &fields[0..3])?;
+        if !fields[3].starts_with(|c: char| c.is_ascii_alphabetic() || c == '*') {
+            return Err(self.err(
+                i,
+                format!(
+                    "atom {} of {n_atoms}: {:?} is not an element symbol \
+                     (is the atom count on the counts line right?)",
+                    k + 1,
+                    fields[3]
+                ),
+            ));
+        }
+        Ok((fields[3].to_string(), pos))
+    }
+
+    /// Parses three coordinate fields, rejecting non-numbers and non-finite values.
+    fn coords(&self, i: usize, fields: &[&str]) -> Result<DVec3, LoadError> {
+        let mut v = [0.0_f64; 3];
+        for (axis, (slot, text)) in v.iter_mut().zip(fields).enumerate() {
+            let name = ["x", "y", "z"][axis];
+            let value: f64 = text.trim().parse().map_err(|_| {
+                self.err(
+                    i,
+                    format!("{name} coordinate is not a number: {:?}", text.trim()),
+                )
+            })?;
+            if !value.is_finite() {
+                return Err(self.err(
+                    i,
+                    format!("{name} coordinate is not finite: {:?}", text.trim()),
+                ));
+            }
+            *slot = value;
+        }
+        Ok(DVec3::from_array(v))
+    }
+
+    fn parse_v3000(&self) -> Result<RawAtoms, LoadError> {
+        // Logical V30 lines: (record line index of the first physical line, text).
+        let mut logical: Vec<(usize, String)> = Vec::new();
+        let mut pending: Option<(usize, String)> = None;
+        let mut end_at = self.lines.len();
+        for (i, line) in self.lines.iter().enumerate().skip(4) {
+            if line.starts_with("M  END") {
+                end_at = i;
+                break;
+            }
+            let Some(body) = line.strip_prefix("M  V30") else {
+                if let Some(p) = pending.take() {
+                    return Err(self.err(
+                        p.0,
+                        "V3000 line ends with '-' but no continuation line follows",
+                    ));
+                }
+                continue;
+            };
+            let body = body.strip_prefix(' ').unwrap_or(body);
+            let (start, mut text) = pending.take().unwrap_or((i, String::new()));
+            let trimmed = body.trim_end();
+            if let Some(cont) = trimmed.strip_suffix('-') {
+                text.push_str(cont);
+                pending = Some((start, text));
+            } else {
+                text.push_str(trimmed);
+                logical.push((start, text));
+            }
+        }
+        if let Some(p) = pending {
+            return Err(self.err(
+                p.0,
+                "V3000 line ends with '-' but no continuation line follows",
+            ));
+        }
+
+        let upper = |s: &str| s.trim().to_ascii_uppercase();
+        let Some((counts_i, counts)) = logical.iter().find(|(_, t)| upper(t).starts_with("COUNTS"))
+        else {
+            return Err(self.err(3, "V3000 record has no COUNTS line"));
+        };
+        let n_atoms = counts
+            .split_whitespace()
+            .nth(1)
+            .and_then(|t| t.parse::<usize>().ok())
+            .ok_or_else(|| {
+                self.err(
+                    *counts_i,
+                    format!("malformed COUNTS line: {:?}", counts.trim()),
+                )
+            })?;
+        let Some(begin) = logical.iter().position(|(_, t)| upper(t) == "BEGIN ATOM") else {
+            if n_atoms == 0 {
+                return Ok(Vec::new());
+            }
+            return Err(self.err(
+                end_at,
+                format!("COUNTS says {n_atoms} atoms but there is no BEGIN ATOM block"),
+            ));
+        };
+        let mut atoms = Vec::with_capacity(n_atoms);
+        for (i, text) in &logical[begin + 1..] {
+            if upper(text) == "END ATOM" {
+                if atoms.len() != n_atoms {
+                    return Err(self.err(
+                        *i,
+                        format!(
+                            "COUNTS says {n_atoms} atoms but the atom block holds {}",
+                            atoms.len()
+                        ),
+                    ));
+                }
+                return Ok(atoms);
+            }
+            if atoms.len() == n_atoms {
+                return Err(self.err(
+                    *i,
+                    format!(
+                        "COUNTS says {n_atoms} atoms but this is atom {}",
+                        n_atoms + 1
+                    ),
+                ));
+            }
+            let fields: Vec<&str> = text.split_whitespace().collect();
+            if fields.len() < 5 {
+                return Err(self.err(
+                    *i,
+                    format!(
+                        "atom line too short (need index, type, x, y, z): {:?}",
+                        text.trim()
+                    ),
+                ));
+            }
+            let pos = self.coords(*i, &fields[2..5])?;
+            atoms.push((fields[1].trim_matches('"').to_string(), pos));
+        }
+        Err(self.err(end_at, "V3000 atom block has no END ATOM line"))
+    }
+}
+
+/// A V2000 atom line read by its fixed columns, if it fits them.
+fn fixed_v2000_atom(line: &str) -> Option<(String, DVec3)> {
+    let num = |r: std::ops::Range<usize>| {
+        line.get(r)
+            .and_then(|f| f.trim().parse::<f64>().ok())
+            .filter(|v| v.is_finite())
+    };
+    let (x, y, z) = (num(0..10)?, num(10..20)?, num(20..30)?);
+    let symbol = line.get(31..line.len().min(34))?.trim();
+    if symbol.is_empty() || symbol.contains(char::is_whitespace) {
+        return None;
+    }
+    Some((symbol.to_string(), DVec3::new(x, y, z)))
+}
+
+/// True when a line reads as a V2000 atom line (three numbers with a decimal
+/// point, then a symbol starting with a letter). Bond lines hold integers.
+fn looks_like_v2000_atom(line: &str) -> bool {
+    let fields: Vec<&str> = line.split_whitespace().collect();
+    fields.len() >= 4
+        && fields[..3]
+            .iter()
+            .all(|f| f.contains('.') && f.parse::<f64>().is_ok())
+        && fields[3].starts_with(|c: char| c.is_ascii_alphabetic())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
+    use super::*;
+    use crate::model::element::UNKNOWN_RADIUS;
+
+    /// The shared test-data folder, or `None` (after saying so) when it is
+    /// missing outside CI. In CI a missing folder fails the test.
+    use crate::model::test_data_dir as data_dir;
+
+    fn opts(hydrogens: Hydrogens, record: Option<usize>) -> LoadOptions {
+        LoadOptions {
+            hydrogens,
+            sdf_record: record,
+            ..LoadOptions::default()
+        }
+    }
+
+    fn parse(text: &str) -> Result<Loaded, LoadError> {
+        parse_sdf(text, "t.sdf", &LoadOptions::default())
+    }
+
+    fn parse_line(text: &str) -> Option<usize> {
+        match parse(text) {
+            Err(LoadError::Parse { line, .. }) => line,
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+    }
+
+    const TWO_RECORDS: &str = "\
+first
+  test
+
+  2  1  0  0  0  0  0  0  0  0999 V2000
+    0.0000    0.0000    0.0000 C   0  0  0  0  0  0  0  0  0  0  0  0
+    1.5000    0.0000    0.0000 O   0  0  0  0  0  0  0  0  0  0  0  0
+  1  2  1  0
+M  END
+$$$$
+second molecule name that is long
+  test
+
+  3  2  0  0  0  0  0  0  0  0999 V2000
+    5.0000    0.0000    0.0000 N   0  0  0  0  0  0  0  0  0  0  0  0
+    6.0000    0.0000    0.0000 H   0  0  0  0  0  0  0  0  0  0  0  0
+    7.0000    0.0000    0.0000 Cl  0  0  0  0  0  0  0  0  0  0  0  0
+  1  2  1  0
+  1  3  1  0
+M  END
+$$$$
+";
+
+    #[test]
+    fn shared_sdf_files_load() {
+        let Some(dir) = data_dir() else {
+            return;
+        };
+        for (file, heavy, all) in [
+            ("trimethoprim_top_6xg5pose.sdf", 21, 39),
+            ("methotrexate_mtx_ideal.sdf", 33, 55),
+            ("benzamidine_3ptb.sdf", 9, 18),
+            ("1s3v_ligand_tqd.sdf", 27, 27),
+        ] {
+            let path = dir.join(file);
+            let h = load_sdf(&path, &opts(Hydrogens::Drop, None)).unwrap();
+            assert_eq!(h.structure.atoms.len(), heavy, "{file}");
+            assert_eq!(h.structure.name, file);
+            let k = load_sdf(&path, &opts(Hydrogens::Keep, None)).unwrap();
+            assert_eq!(k.structure.atoms.len(), all, "{file}");
+            assert!(h.warnings.is_empty(), "{file}: {:?}", h.warnings);
+        }
+        let b = load_sdf(&dir.join("benzamidine_3ptb.sdf"), &LoadOptions::default()).unwrap();
+        let a = &b.structure.atoms[0];
+        assert_eq!((a.serial, a.name.as_str()), (1, "C1"));
+        assert_eq!(
+            (a.residue.as_str(), a.seq, a.chain.as_str()),
+            ("BEN", 0, "")
+        );
+        assert!(a.hetero);
+        assert_eq!(b.structure.positions[0], DVec3::new(-1.853, 14.311, 16.658));
+    }
+
+    #[test]
+    fn gzipped_sdf_loads() {
+        let Some(dir) = data_dir() else {
+            return;
+        };
+        let text = std::fs::read(dir.join("benzamidine_3ptb.sdf")).unwrap();
+        let tmp = std::env::temp_dir().join(format!("bump-sdf-{}.sdf.gz", std::process::id()));
+        let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        std::io::Write::write_all(&mut enc, &text).unwrap();
+        std::fs::write(&tmp, enc.finish().unwrap()).unwrap();
+        let l = load_sdf(&tmp, &LoadOptions::default());
+        let _ = std::fs::remove_file(&tmp);
+        assert_eq!(l.unwrap().structure.atoms.len(), 9);
+    }
+
+    #[test]
+    fn record_selection() {
+        let first = parse(TWO_RECORDS).unwrap();
+        assert_eq!(first.structure.atoms.len(), 2);
+        assert_eq!(first.structure.atoms[0].residue, "first");
+        assert_eq!(first.warnings.len(), 1);
+        let second = parse_sdf(TWO_RECORDS, "dir/t.sdf", &opts(Hydrogens::Drop, Some(2))).unwrap();
+        let names: Vec<&str> = second
+            .structure
+            .atoms
+            .iter()
+            .map(|a| a.name.as_str())
+            .collect();
+        assert_eq!(names, vec!["N1", "Cl3"]);
+        assert_eq!(second.structure.atoms[1].serial, 3);
+        assert_eq!(second.structure.atoms[1].residue, "second m");
+        assert_eq!(second.structure.name, "t.sdf");
+        assert_eq!(second.structure.positions[1], DVec3::new(7.0, 0.0, 0.0));
+        match parse_sdf(TWO_RECORDS, "t.sdf", &opts(Hydrogens::Drop, Some(3))) {
+            Err(LoadError::Parse { reason, .. }) => {
+                assert!(reason.contains("2 records"), "{reason}")
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn v3000_with_continuation() {
+        let text = "\
+v3
+  test
+
+  0  0  0     0  0            999 V3000
+M  V30 BEGIN CTAB
+M  V30 COUNTS 3 2 0 0 0
+M  V30 BEGIN ATOM
+M  V30 1 C 1.0 2.0 3.0 0
+M  V30 2 N 4.0 -
+M  V30 5.0 6.0 0 CHG=1
+M  V30 3 H 7.0 8.0 9.0 0
+M  V30 END ATOM
+M  V30 BEGIN BOND
+M  V30 1 1 1 2
+M  V30 2 1 1 3
+M  V30 END BOND
+M  V30 END CTAB
+M  END
+$$$$
+";
+        let l = parse_sdf(text, "t.sdf", &opts(Hydrogens::Keep, None)).unwrap();
+        let s = &l.structure;
+        assert_eq!(s.atoms.len(), 3);
+        assert_eq!(s.atoms[1].name, "N2");
+        assert!(s.atoms[1].polar);
+        assert_eq!(s.positions[1], DVec3::new(4.0, 5.0, 6.0));
+        assert_eq!(s.atoms[0].residue, "v3");
+
+        let too_few = text.replace("COUNTS 3 2", "COUNTS 4 2");
+        assert_eq!(parse_line(&too_few), Some(12));
+        let too_many = text.replace("COUNTS 3 2", "COUNTS 2 2");
+        assert_eq!(parse_line(&too_many), Some(11));
+        let bad = text.replace("5.0 6.0", "5.0 abc");
+        assert_eq!(parse_line(&bad), Some(9));
+        let short = text.replace("M  V30 3 H 7.0 8.0 9.0 0", "M  V30 3 H 7.0");
+        assert_eq!(parse_line(&short), Some(11));
+        let counts = text.replace("COUNTS 3 2", "COUNTS x 2");
+        assert_eq!(parse_line(&counts), Some(6));
+    }
+
+    #[test]
+    fn malformed_v2000_reports_lines() {
+        // Record 2 starts at file line 10; its counts line is line 13.
+        let bad_counts = TWO_RECORDS.replace("  3  2  0  0", "  x  2  0  0");
+        let r = parse_sdf(&bad_counts, "t.sdf", &opts(Hydrogens::Drop, Some(2)));
+        assert!(
+            matches!(r, Err(LoadError::Parse { line: Some(13), .. })),
+            "{r:?}"
+        );
+        let bad_x = TWO_RECORDS.replace("    1.5000    0.0000", "    1.5z00    0.0000");
+        assert_eq!(parse_line(&bad_x), Some(6));
+        let nan = TWO_RECORDS.replace("    1.5000    0.0000", "       NaN    0.0000");
+        assert_eq!(parse_line(&nan), Some(6));
+        let inf = TWO_RECORDS.replace("    1.5000    0.0000", "       inf    0.0000");
+        assert_eq!(parse_line(&inf), Some(6));
+        let short = TWO_RECORDS.replace(
+            "    1.5000    0.0000    0.0000 O   0  0  0  0  0  0  0  0  0  0  0  0",
+            "    1.5000    0.0000",
+        );
+        assert_eq!(parse_line(&short), Some(6));
+        // Count too large: the bond line is where atom 3 should be.
+        let too_many = TWO_RECORDS.replacen("  2  1  0  0", "  3  1  0  0", 1);
+        assert_eq!(parse_line(&too_many), Some(7));
+        // Count too large with no bonds: M  END ends the block.
+        let no_bonds = "x\n\n\n  2  0  0  0  0  0  0  0  0  0999 V2000\n    0.0000    0.0000    0.0000 C   0  0\nM  END\n";
+        assert_eq!(parse_line(no_bonds), Some(6));
+        // Count too small: an atom line follows the block.
+        let too_few = TWO_RECORDS.replacen("  2  1  0  0", "  1  1  0  0", 1);
+        assert_eq!(parse_line(&too_few), Some(6));
+        // Truncated record: no counts line.
+        assert_eq!(parse_line("name\nprog\n"), Some(2));
+    }
+
+    #[test]
+    fn empty_inputs_have_no_atoms() {
+        assert!(matches!(parse(""), Err(LoadError::NoAtoms { .. })));
+        let zero = "empty\n\n\n  0  0  0  0  0  0  0  0  0  0999 V2000\nM  END\n$$$$\n";
+        assert!(matches!(parse(zero), Err(LoadError::NoAtoms { .. })));
+        let only_h = "h\n\n\n  1  0  0  0  0  0  0  0  0  0999 V2000\n    0.0000    0.0000    0.0000 H   0  0\nM  END\n";
+        assert!(matches!(parse(only_h), Err(LoadError::NoAtoms { .. })));
+    }
+
+    #[test]
+    fn unpadded_lines_and_unknown_elements() {
+        let text = "\n\n\n2 0 0 0 0 0 0 0 0 0999 V2000\n1.0 2.0 3.0 Fe 0\n-1.25 2 3 C\nM  END\n";
+        let l = parse(text).unwrap();
+        let s = &l.structure;
+        assert_eq!(s.atoms[0].element, "Fe");
+        assert_eq!(s.atoms[0].residue, "LIG");
+        assert_eq!(s.atoms[0].radius, UNKNOWN_RADIUS);
+        assert_eq!(s.positions[1], DVec3::new(-1.25, 2.0, 3.0));
+        assert_eq!(l.warnings.len(), 1);
+        assert!(l.warnings[0].contains("t.sdf") && l.warnings[0].contains("Fe"));
+    }
+}

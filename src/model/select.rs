@@ -1,0 +1,566 @@
+//! Splitting a loaded complex into a receptor and a drug.
+//!
+//! A residue copy is identified by chain, sequence number, insertion code and
+//! residue name; atoms are grouped into copies in file order. The drug is one
+//! copy, chosen by a [`LigandSpec`]:
+//! - `RESNAME[:CHAIN[:SEQ]]`: the first copy in file order with that name
+//!   (any case) and, when given, that chain (exact, chain ids are
+//!   case-sensitive) and sequence number;
+//! - `auto`: the copy with the most atoms (ties to the first) among hetero
+//!   residues that are not water ([`super::is_water`]) and not in the skip list:
+//!   single-atom residues, the small ions and additives in [`AUTO_SKIPPED`]
+//!   (sulphate, phosphate, glycerol, ...) and common modified amino acids
+//!   (`MSE`, `CSO`, ...), which are part of the protein chain.
+//!
+//! The receptor is every other atom except waters. Errors name the file and
+//! list the hetero residues that are present, so the user can name one.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::str::FromStr;
+
+use super::{LoadError, Molecule, Structure, is_water};
+
+/// Hetero residue names `auto` never picks: ions and small inorganic groups,
+/// crystallisation and buffer additives, and modified amino acids that belong
+/// to the polymer. Residues with a single atom are skipped as well.
+pub const AUTO_SKIPPED: &[&str] = &[
+    // ions and small inorganic groups
+    "SO4", "PO4", "NO3", "CO3", "NH4", "SCN", "AZI", "IOD", "PI", "2HP", "BCT", "CYN",
+    // additives: cryoprotectants, precipitants, buffers, solvents
+    "GOL", "EDO", "PEG", "PGE", "PG4", "1PE", "P6G", "MPD", "ACT", "ACY", "FMT", "DMS", "EOH",
+    "IPA", "MOH", "BME", "TRS", "MES", "EPE", "IMD", "CIT", "FLC", "TAR", "MLI",
+    // modified amino acids
+    "MSE", "CSO", "CSD", "CSX", "OCS", "CME", "CAS", "SEP", "TPO", "PTR", "HYP", "MLY", "M3L",
+    "KCX", "LLP", "PCA", "ALY",
+];
+
+/// Which residue of a complex is the drug.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LigandSpec {
+    /// The largest hetero residue that is not water, an ion, an additive or a
+    /// modified amino acid.
+    Auto,
+    /// A residue by name, optionally narrowed by chain and sequence number.
+    Residue {
+        /// Residue name, upper case (`MTX`).
+        name: String,
+        /// Chain identifier, exact.
+        chain: Option<String>,
+        /// Residue sequence number.
+        seq: Option<i64>,
+    },
+}
+
+impl LigandSpec {
+    /// Parses `auto` (any case), `RESNAME`, `RESNAME:CHAIN` or
+    /// `RESNAME:CHAIN:SEQ`. The name is matched in any case; an empty chain
+    /// (`MTX::162`) means any chain. Insertion codes are not supported.
+    ///
+    /// # Errors
+    /// A message saying what is wrong with `s`.
+    pub fn parse(s: &str) -> Result<LigandSpec, String> {
+        let s = s.trim();
+        if s.eq_ignore_ascii_case("auto") {
+            return Ok(LigandSpec::Auto);
+        }
+        let parts: Vec<&str> = s.split(':').map(str::trim).collect();
+        if parts.len() > 3 {
+            return Err(format!(
+                "ligand {s:?}: expected auto, RESNAME, RESNAME:CHAIN or RESNAME:CHAIN:SEQ"
+            ));
+        }
+        let name = parts[0];
+        if name.is_empty() || name.contains(char::is_whitespace) {
+            return Err(format!(
+                "ligand {s:?}: the residue name must be non-empty with no spaces \
+                 (expected auto, RESNAME, RESNAME:CHAIN or RESNAME:CHAIN:SEQ)"
+            ));
+        }
+        let chain = parts
+            .get(1)
+            .filter(|c| !c.is_empty())
+            .map(|c| (*c).to_string());
+        let seq = match parts.get(2).filter(|q| !q.is_empty()) {
+            Some(q) => Some(
+                q.parse::<i64>()
+                    .map_err(|_| format!("ligand {s:?}: residue number {q:?} is not an integer"))?,
+            ),
+            None => None,
+        };
+        Ok(LigandSpec::Residue {
+            name: name.to_ascii_uppercase(),
+            chain,
+            seq,
+        })
+    }
+}
+
+impl FromStr for LigandSpec {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::parse(s)
+    }
+}
+
+impl fmt::Display for LigandSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LigandSpec::Auto => write!(f, "auto"),
+            LigandSpec::Residue { name, chain, seq } => {
+                write!(f, "{name}")?;
+                match (chain, seq) {
+                    (None, None) => Ok(()),
+                    (Some(c), None) => write!(f, ":{c}"),
+                    (c, Some(q)) => write!(f, ":{}:{q}", c.as_deref().unwrap_or("")),
+                }
+            }
+        }
+    }
+}
+
+/// One residue copy: its identity and the indices of its atoms.
+struct Group<'a> {
+    chain: &'a str,
+    seq: i64,
+    insertion: &'a str,
+    name: &'a str,
+    hetero: bool,
+    atoms: Vec<usize>,
+}
+
+impl Group<'_> {
+    /// `TOP X/0`, or `TOP 0` without a chain.
+    fn label(&self) -> String {
+        if self.chain.is_empty() {
+            format!("{} {}{}", self.name, self.seq, self.insertion)
+        } else {
+            format!(
+                "{} {}/{}{}",
+                self.name, self.chain, self.seq, self.insertion
+            )
+        }
+    }
+}
+
+/// Residue copies in order of first atom.
+fn residue_groups(s: &Structure) -> Vec<Group<'_>> {
+    let mut groups: Vec<Group<'_>> = Vec::new();
+    let mut index: HashMap<(&str, i64, &str, &str), usize> = HashMap::new();
+    for (i, a) in s.atoms.iter().enumerate() {
+        let key = (
+            a.chain.as_str(),
+            a.seq,
+            a.insertion.as_str(),
+            a.residue.as_str(),
+        );
+        // Consecutive atoms of one residue are the common case.
+        if let Some(last) = groups.last_mut()
+            && (last.chain, last.seq, last.insertion, last.name) == key
+        {
+            last.atoms.push(i);
+            last.hetero |= a.hetero;
+            continue;
+        }
+        match index.get(&key) {
+            Some(&g) => {
+                groups[g].atoms.push(i);
+                groups[g].hetero |= a.hetero;
+            }
+            None => {
+                index.insert(key, groups.len());
+                groups.push(Group {
+                    chain: key.0,
+                    seq: key.1,
+                    insertion: key.2,
+                    name: key.3,
+                    hetero: a.hetero,
+                    atoms: vec![i],
+                });
+            }
+        }
+    }
+    groups
+}
+
+/// Why `auto` passes over a hetero residue, or `None` when it is a candidate.
+fn auto_skip_reason(g: &Group<'_>) -> Option<&'static str> {
+    if is_water(g.name) {
+        Some("water")
+    } else if g.atoms.len() == 1 {
+        Some("single atom")
+    } else if AUTO_SKIPPED.contains(&g.name.to_ascii_uppercase().as_str()) {
+        Some("ion, additive or modified amino acid")
+    } else {
+        None
+    }
+}
+
+/// `MTX ×2, CA, CL ×2`: the non-water hetero residue names present, with copy
+/// counts, in file order; `None` when there are none.
+fn hetero_summary(groups: &[Group<'_>]) -> Option<String> {
+    let mut names: Vec<(&str, usize)> = Vec::new();
+    for g in groups.iter().filter(|g| g.hetero && !is_water(g.name)) {
+        match names.iter_mut().find(|(n, _)| *n == g.name) {
+            Some(entry) => entry.1 += 1,
+            None => names.push((g.name, 1)),
+        }
+    }
+    if names.is_empty() {
+        return None;
+    }
+    Some(
+        names
+            .iter()
+            .map(|(n, c)| {
+                if *c == 1 {
+                    (*n).to_string()
+                } else {
+                    format!("{n} ×{c}")
+                }
+            })
+            .collect::<Vec<_>>()
+            .join(", "),
+    )
+}
+
+/// Picks the drug's residue copy.
+fn pick(s: &Structure, groups: &[Group<'_>], spec: &LigandSpec) -> Result<usize, LoadError> {
+    let fail = |reason: String| LoadError::Ligand {
+        path: s.name.clone(),
+        reason,
+    };
+    let present = || {
+        hetero_summary(groups).map_or_else(
+            || "the file has no hetero residues other than water".to_string(),
+            |h| format!("hetero residues present: {h}"),
+        )
+    };
+    match spec {
+        LigandSpec::Auto => {
+            let mut best: Option<usize> = None;
+            for (i, g) in groups.iter().enumerate() {
+                if !g.hetero || auto_skip_reason(g).is_some() {
+                    continue;
+                }
+                if best.is_none_or(|b| g.atoms.len() > groups[b].atoms.len()) {
+                    best = Some(i);
+                }
+            }
+            best.ok_or_else(|| {
+                let skipped: Vec<String> = groups
+                    .iter()
+                    .filter(|g| g.hetero && !is_water(g.name))
+                    .filter_map(|g| auto_skip_reason(g).map(|r| (g.name, r)))
+                    .fold(Vec::new(), |mut acc: Vec<(&str, &str)>, (n, r)| {
+                        if !acc.iter().any(|(m, _)| *m == n) {
+                            acc.push((n, r));
+                        }
+                        acc
+                    })
+                    .into_iter()
+                    .map(|(n, r)| format!("{n} ({r})"))
+                    .collect();
+                if skipped.is_empty() {
+                    fail(format!(
+                        "no ligand found automatically: {}; give the drug as a separate file",
+                        present()
+                    ))
+                } else {
+                    fail(format!(
+                        "no ligand found automatically: the only hetero residues are {}, \
+                         which auto skips; name one (e.g. {}) or give the drug as a separate file",
+                        skipped.join(", "),
+                        groups
+                            .iter()
+                            .find(|g| g.hetero && !is_water(g.name))
+                            .map_or("RESNAME", |g| g.name)
+                    ))
+                }
+            })
+        }
+        LigandSpec::Residue { name, chain, seq } => {
+            let same_name = |g: &&Group<'_>| g.name.eq_ignore_ascii_case(name);
+            if let Some(i) = groups.iter().position(|g| {
+                same_name(&g)
+                    && chain.as_deref().is_none_or(|c| g.chain == c)
+                    && seq.is_none_or(|q| g.seq == q)
+            }) {
+                return Ok(i);
+            }
+            let copies: Vec<String> = groups.iter().filter(same_name).map(Group::label).collect();
+            if copies.is_empty() {
+                Err(fail(format!("no residue named {name}; {}", present())))
+            } else {
+                Err(fail(format!(
+                    "no residue {spec}; copies of {name} present: {}",
+                    copies.join(", ")
+                )))
+            }
+        }
+    }
+}
+
+/// Splits a complex into `(receptor, drug)`.
+///
+/// The drug is one residue copy chosen by `spec` (see the module docs); the
+/// receptor is every other atom except waters. They are named
+/// `"<file> receptor"` and `"<file> <RES> <chain>/<seq>"` (e.g.
+/// `"4dfr.pdb MTX A/161"`).
+///
+/// # Errors
+/// [`LoadError::Ligand`] when no residue matches (the message lists the hetero
+/// residues present) or when nothing is left for the receptor.
+pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Molecule), LoadError> {
+    let groups = residue_groups(s);
+    let chosen = &groups[pick(s, &groups, spec)?];
+    let mut in_drug = vec![false; s.atoms.len()];
+    for &i in &chosen.atoms {
+        in_drug[i] = true;
+    }
+    let (mut rec_atoms, mut rec_pos) = (Vec::new(), Vec::new());
+    for (i, (a, p)) in s.atoms.iter().zip(&s.positions).enumerate() {
+        if !in_drug[i] && !is_water(&a.residue) {
+            rec_atoms.push(a.clone());
+            rec_pos.push(*p);
+        }
+    }
+    if rec_atoms.is_empty() {
+        return Err(LoadError::Ligand {
+            path: s.name.clone(),
+            reason: format!(
+                "nothing is left for the receptor after taking {} as the drug and removing waters",
+                chosen.label()
+            ),
+        });
+    }
+    let drug_atoms = chosen.atoms.iter().map(|&i| s.atoms[i].clone()).collect();
+    let drug_pos: Vec<_> = chosen.atoms.iter().map(|&i| s.positions[i]).collect();
+    let receptor = Molecule::new(format!("{} receptor", s.name), rec_atoms, &rec_pos);
+    let drug = Molecule::new(
+        format!("{} {}", s.name, chosen.label()),
+        drug_atoms,
+        &drug_pos,
+    );
+    Ok((receptor, drug))
+}
+
+/// The whole structure as a receptor: every atom except waters, named
+/// `"<file> receptor"`.
+///
+/// # Errors
+/// [`LoadError::NoAtoms`] when only waters (or nothing) remain.
+pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
+    let (atoms, positions): (Vec<_>, Vec<_>) = s
+        .atoms
+        .iter()
+        .zip(&s.positions)
+        .filter(|(a, _)| !is_water(&a.residue))
+        .map(|(a, p)| (a.clone(), *p))
+        .unzip();
+    if atoms.is_empty() {
+        return Err(LoadError::NoAtoms {
+            path: s.name.clone(),
+        });
+    }
+    Ok(Molecule::new(
+        format!("{} receptor", s.name),
+        atoms,
+        &positions,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
+    use super::*;
+    use crate::model::{Hydrogens, LoadOptions, load};
+
+    /// The shared test-data folder, or `None` (after saying so) when it is
+    /// missing outside CI. In CI a missing folder fails the test.
+    use crate::model::test_data_dir as data_dir;
+
+    fn structure(file: &str, hydrogens: Hydrogens) -> Option<Structure> {
+        let dir = data_dir()?;
+        let opts = LoadOptions {
+            hydrogens,
+            ..LoadOptions::default()
+        };
+        Some(
+            load(&dir.join(file), &opts)
+                .unwrap_or_else(|e| panic!("{file}: {e}"))
+                .structure,
+        )
+    }
+
+    fn spec(s: &str) -> LigandSpec {
+        LigandSpec::parse(s).unwrap()
+    }
+
+    #[test]
+    fn parse_specs() {
+        assert_eq!(spec("AUTO"), LigandSpec::Auto);
+        assert_eq!(
+            spec("mtx"),
+            LigandSpec::Residue {
+                name: "MTX".into(),
+                chain: None,
+                seq: None
+            }
+        );
+        assert_eq!(
+            spec("MTX:B:162"),
+            LigandSpec::Residue {
+                name: "MTX".into(),
+                chain: Some("B".into()),
+                seq: Some(162)
+            }
+        );
+        assert_eq!(
+            spec("MTX::-3"),
+            LigandSpec::Residue {
+                name: "MTX".into(),
+                chain: None,
+                seq: Some(-3)
+            }
+        );
+        assert_eq!(spec("MTX:B:162").to_string(), "MTX:B:162");
+        assert_eq!(spec("MTX::7").to_string(), "MTX::7");
+        assert_eq!(spec("MTX:b").to_string(), "MTX:b");
+        for bad in ["", ":A", "MTX:A:x", "A:B:C:D", "M X"] {
+            assert!(LigandSpec::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn six_xg5_top_heavy_and_with_hydrogens() {
+        let Some(s) = structure("6xg5_tmp_prepared.pdb", Hydrogens::Drop) else {
+            return;
+        };
+        let (rec, drug) = split_complex(&s, &spec("TOP")).unwrap();
+        assert_eq!(drug.len(), 21);
+        assert_eq!(rec.len(), 1268);
+        assert_eq!(drug.name, "6xg5_tmp_prepared.pdb TOP X/0");
+        assert_eq!(rec.name, "6xg5_tmp_prepared.pdb receptor");
+        let (_, auto) = split_complex(&s, &LigandSpec::Auto).unwrap();
+        assert_eq!(auto.len(), 21);
+
+        let h = structure("6xg5_tmp_prepared.pdb", Hydrogens::Keep).unwrap();
+        let (rec_h, drug_h) = split_complex(&h, &spec("top")).unwrap();
+        assert_eq!(drug_h.len(), 39);
+        assert_eq!(rec_h.len(), 2491);
+    }
+
+    #[test]
+    fn trimethoprim_sdf_matches_the_pdb_residue() {
+        let Some(s) = structure("6xg5_tmp_prepared.pdb", Hydrogens::Drop) else {
+            return;
+        };
+        let (_, drug) = split_complex(&s, &spec("TOP")).unwrap();
+        let dir = data_dir().unwrap();
+        let sdf = load(
+            &dir.join("trimethoprim_top_6xg5pose.sdf"),
+            &LoadOptions::default(),
+        )
+        .unwrap()
+        .structure;
+        let from_pdb = drug.file_positions();
+        assert_eq!(sdf.positions.len(), from_pdb.len());
+        for (i, (a, b)) in sdf.positions.iter().zip(&from_pdb).enumerate() {
+            assert!((*a - *b).length() < 1e-3, "atom {i}: {a} vs {b}");
+            assert_eq!(sdf.atoms[i].element, drug.atoms[i].element, "atom {i}");
+        }
+    }
+
+    #[test]
+    fn four_dfr_copies() {
+        let Some(s) = structure("4dfr.pdb", Hydrogens::Drop) else {
+            return;
+        };
+        let (rec, first) = split_complex(&s, &spec("MTX")).unwrap();
+        assert_eq!(first.len(), 33);
+        assert!(first.atoms.iter().all(|a| a.chain == "A" && a.seq == 161));
+        assert_eq!(first.name, "4dfr.pdb MTX A/161");
+        let waters = s.atoms.iter().filter(|a| is_water(&a.residue)).count();
+        assert_eq!(rec.len(), s.atoms.len() - 33 - waters);
+
+        let (_, second) = split_complex(&s, &spec("MTX:B:162")).unwrap();
+        assert_eq!(second.len(), 33);
+        assert!(second.atoms.iter().all(|a| a.chain == "B" && a.seq == 162));
+        let (_, by_chain) = split_complex(&s, &spec("mtx:B")).unwrap();
+        assert_eq!(by_chain.centre, second.centre);
+
+        let err = split_complex(&s, &spec("MTX:C")).unwrap_err().to_string();
+        assert!(
+            err.contains("4dfr.pdb") && err.contains("MTX B/162"),
+            "{err}"
+        );
+        let err = split_complex(&s, &spec("XYZ")).unwrap_err().to_string();
+        assert!(err.contains("MTX ×2") && err.contains("CL ×2"), "{err}");
+    }
+
+    #[test]
+    fn auto_picks() {
+        for (file, name, n) in [
+            ("3ptb.pdb", "BEN", 9),
+            ("1hvr.pdb", "XK2", 46),
+            ("1u72.pdb", "NDP", 48),
+            ("1dt6.pdb", "HEM", 43),
+        ] {
+            let Some(s) = structure(file, Hydrogens::Drop) else {
+                return;
+            };
+            let (_, drug) = split_complex(&s, &LigandSpec::Auto).unwrap();
+            assert_eq!(drug.atoms[0].residue, name, "{file}");
+            assert_eq!(drug.len(), n, "{file}");
+        }
+        let s = structure("1u72.pdb", Hydrogens::Drop).unwrap();
+        let (_, mtx) = split_complex(&s, &spec("MTX")).unwrap();
+        assert_eq!(mtx.len(), 33);
+    }
+
+    #[test]
+    fn auto_errors_list_what_is_there() {
+        let Some(s) = structure("1ubq.pdb", Hydrogens::Drop) else {
+            return;
+        };
+        let err = split_complex(&s, &LigandSpec::Auto)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("1ubq.pdb") && err.contains("no hetero"),
+            "{err}"
+        );
+        let s = structure("1azv.pdb", Hydrogens::Drop).unwrap();
+        let err = split_complex(&s, &LigandSpec::Auto)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("CU") && err.contains("single atom"), "{err}");
+    }
+
+    #[test]
+    fn receptor_only_drops_waters() {
+        let Some(s) = structure("1ubq.pdb", Hydrogens::Drop) else {
+            return;
+        };
+        let r = receptor_only(&s).unwrap();
+        assert_eq!(r.len(), 602);
+        assert_eq!(r.name, "1ubq.pdb receptor");
+        let waters = Structure {
+            name: "w.pdb".into(),
+            atoms: s
+                .atoms
+                .iter()
+                .filter(|a| is_water(&a.residue))
+                .cloned()
+                .collect(),
+            positions: vec![glam::DVec3::ZERO; 58],
+        };
+        assert!(matches!(
+            receptor_only(&waters),
+            Err(LoadError::NoAtoms { .. })
+        ));
+    }
+}

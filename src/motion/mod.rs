@@ -1,0 +1,8 @@
+//! Rigid motion: poses in f64 and the screw interpolation between two poses
+//! that move-to-touch sweeps along.
+
+pub mod pose;
+pub mod screw;
+
+pub use pose::Pose;
+pub use screw::Screw;

@@ -1,0 +1,101 @@
+//! A docking scene: a receptor and a drug, judged by one contact rule, with
+//! the receptor indexed once by a collider.
+//!
+//! Both molecules keep their file coordinates as their starting poses. The
+//! collider lives in the receptor's frame; [`Scene::relative`] turns the drug's
+//! world pose into the pose the collider is queried with.
+
+use glam::DVec3;
+
+use crate::collide::{
+    Collider, ColliderKind, ContactRule, DrugAtoms, Pair, Response, StepResult, TouchOptions,
+    TouchResult, check, move_to_touch, respond,
+};
+use crate::model::Molecule;
+use crate::motion::Pose;
+
+/// A receptor, a drug and a collider over the receptor.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// The fixed molecule.
+    pub receptor: Molecule,
+    /// The molecule that moves.
+    pub drug: Molecule,
+    /// The contact rule.
+    pub rule: ContactRule,
+    collider: Collider,
+    drug_atoms: DrugAtoms,
+}
+
+impl Scene {
+    /// Builds the collider for `receptor` and prepares `drug`.
+    pub fn new(receptor: Molecule, drug: Molecule, rule: ContactRule, kind: ColliderKind) -> Self {
+        let collider = Collider::build(&receptor, &rule, kind);
+        let drug_atoms = DrugAtoms::new(&drug, &rule, collider.max_radius());
+        Self {
+            receptor,
+            drug,
+            rule,
+            collider,
+            drug_atoms,
+        }
+    }
+
+    /// The receptor's collider.
+    pub fn collider(&self) -> &Collider {
+        &self.collider
+    }
+
+    /// The prepared drug.
+    pub fn drug_atoms(&self) -> &DrugAtoms {
+        &self.drug_atoms
+    }
+
+    /// The receptor's pose as loaded (centre at its file position).
+    pub fn receptor_file_pose(&self) -> Pose {
+        Pose::from_translation(self.receptor.centre)
+    }
+
+    /// The drug's pose as loaded.
+    pub fn drug_file_pose(&self) -> Pose {
+        Pose::from_translation(self.drug.centre)
+    }
+
+    /// The drug's pose relative to the receptor, from world poses of both.
+    pub fn relative(&self, receptor: &Pose, drug: &Pose) -> Pose {
+        receptor.inverse().compose(drug)
+    }
+
+    /// The drug's file pose relative to the receptor's file pose, shifted by
+    /// `offset` (world Å): computed as a difference of f64 centres, so it is
+    /// exact however far from the origin the files put the molecules.
+    pub fn file_relative(&self, offset: DVec3) -> Pose {
+        Pose::from_translation(self.drug.centre - self.receptor.centre + offset)
+    }
+
+    /// The world pose of the drug for a pose relative to the file-posed receptor.
+    pub fn world_from_relative(&self, rel: &Pose) -> Pose {
+        self.receptor_file_pose().compose(rel)
+    }
+
+    /// Colliding pairs at relative pose `rel`.
+    pub fn check(&self, rel: &Pose) -> Vec<Pair> {
+        check(&self.collider, &self.drug_atoms, rel)
+    }
+
+    /// Move-to-touch from `start` to `end` (relative poses).
+    pub fn move_to_touch(&self, start: &Pose, end: &Pose, opts: &TouchOptions) -> TouchResult {
+        move_to_touch(&self.collider, &self.drug_atoms, start, end, opts)
+    }
+
+    /// Applies a collision response to the step from `start` to `end`.
+    pub fn respond(
+        &self,
+        start: &Pose,
+        end: &Pose,
+        response: Response,
+        opts: &TouchOptions,
+    ) -> StepResult {
+        respond(&self.collider, &self.drug_atoms, start, end, response, opts)
+    }
+}

@@ -1,0 +1,217 @@
+//! The command line end to end: `check`, `touch` and `stats` with `--json`,
+//! and clear errors for bad input.
+
+mod common;
+
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn bump(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bump"))
+        .args(args)
+        .output()
+        .expect("run bump")
+}
+
+fn json(args: &[&str]) -> Value {
+    let out = bump(args);
+    assert!(
+        out.status.success(),
+        "bump {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON output")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn builtin_scene_docks_by_a_straight_push() {
+    let v = json(&["touch", "builtin", "--move", "0,0,25", "--json"]);
+    assert_eq!(v["t"], 1.0);
+    assert_eq!(v["contacts"].as_array().map(Vec::len), Some(0));
+    let v = json(&[
+        "touch", "builtin", "--start", "0,5,0", "--move", "0,0,25", "--json",
+    ]);
+    let t = v["t"].as_f64().expect("t");
+    assert!(t > 0.0 && t < 1.0);
+    assert!(!v["contacts"].as_array().expect("contacts").is_empty());
+    assert!(v["elapsed_us"].as_f64().expect("time") > 0.0);
+    for response in ["stop", "slide", "pass"] {
+        let v = json(&[
+            "touch",
+            "builtin",
+            "--start",
+            "0,5,0",
+            "--move",
+            "0,0,25",
+            "--response",
+            response,
+            "--json",
+        ]);
+        assert_eq!(v["response"], response);
+    }
+    let plain = bump(&["touch", "builtin", "--move", "0,0,25"]);
+    assert!(String::from_utf8_lossy(&plain.stdout).contains("t = 1.000000"));
+}
+
+#[test]
+fn check_reports_serials_and_the_rule() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let f = dir.join("6xg5_tmp_prepared.pdb");
+    let f = f.to_str().expect("path");
+    let v = json(&["check", f, "--ligand", "TOP", "--json"]);
+    assert_eq!(v["clash_count"], 0);
+    assert_eq!(v["drug"]["atoms"], 21);
+    assert_eq!(v["receptor"]["atoms"], 1268);
+    assert_eq!(
+        v["rule"]["overlap"].as_f64().map(|x| (x * 10.0).round()),
+        Some(6.0)
+    );
+    assert_eq!(v["collider"], "hashed");
+    // Pushed 2 Å along x the drug hits the pocket wall.
+    for collider in ["brute", "grid", "hashed"] {
+        let v = json(&[
+            "check",
+            f,
+            "--ligand",
+            "TOP",
+            "--move",
+            "2,0,0",
+            "--collider",
+            collider,
+            "--json",
+        ]);
+        let clashes = v["clashes"].as_array().expect("clashes");
+        assert!(!clashes.is_empty(), "{collider}");
+        let c = &clashes[0];
+        assert!(c["receptor_serial"].as_i64().expect("serial") > 0);
+        assert!(c["drug_serial"].as_i64().expect("serial") > 0);
+        assert_eq!(c["drug_residue"], "TOP");
+        assert!(c["overlap"].as_f64().expect("overlap") >= 0.6 - 1e-6);
+        for k in [
+            "receptor_name",
+            "receptor_chain",
+            "receptor_element",
+            "drug_name",
+            "distance",
+            "receptor_radius",
+        ] {
+            assert!(!c[k].is_null(), "{k}");
+        }
+    }
+    // A separate SDF drug: serials are 1-based record order.
+    let sdf = dir.join("trimethoprim_top_6xg5pose.sdf");
+    let sdf = sdf.to_str().expect("path");
+    let r = dir.join("1rx1.pdb");
+    let v = json(&[
+        "check",
+        r.to_str().expect("path"),
+        sdf,
+        "--move",
+        "0,0,0",
+        "--json",
+    ]);
+    assert_eq!(v["drug"]["atoms"], 21);
+}
+
+#[test]
+fn touch_from_outside_the_pocket() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let f = dir.join("3ptb.pdb");
+    let f = f.to_str().expect("path");
+    let v = json(&[
+        "touch", f, "--ligand", "BEN", "--start", "0,12,0", "--move", "0,-12,0", "--turn",
+        "0,1,0,20", "--json",
+    ]);
+    let t = v["t"].as_f64().expect("t");
+    assert!((0.0..=1.0).contains(&t));
+    assert_eq!(v["start_collides"], false);
+    assert!(v["final_pose"]["centre"].is_array());
+    assert!(v["final_pose"]["angle_deg"].as_f64().is_some());
+    let thesis = json(&[
+        "touch", f, "--ligand", "BEN", "--start", "0,12,0", "--move", "0,-12,0", "--method",
+        "thesis", "--json",
+    ]);
+    assert_eq!(thesis["method"], "thesis");
+}
+
+#[test]
+fn stats_reproduces_table_1_columns() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let files: Vec<String> = ["4dfr.pdb", "1bna.pdb", "3ptb.pdb"]
+        .iter()
+        .map(|f| dir.join(f).display().to_string())
+        .collect();
+    let mut args = vec!["stats", "--json"];
+    args.extend(files.iter().map(String::as_str));
+    let v = json(&args);
+    let rows = v.as_array().expect("rows");
+    assert_eq!(rows.len(), 3);
+    for r in rows {
+        let hashed = r["hashed_overlap"]["atoms_per_cell"]
+            .as_f64()
+            .expect("hashed");
+        let grid = r["grid_overlap"]["atoms_per_cell"].as_f64().expect("grid");
+        let centre = r["grid_centre"]["atoms_per_cell"].as_f64().expect("centre");
+        assert!(hashed >= grid * 0.99, "hashing cannot lower the density");
+        assert!(grid > centre, "overlap counting exceeds centre counting");
+        assert!((3.0..30.0).contains(&grid), "{grid}");
+        assert_eq!(r["hash_cells"], 4096);
+        assert!(r["cell_size"].as_f64().expect("cell") > 3.0);
+    }
+}
+
+#[test]
+fn bad_input_gets_clear_errors() {
+    let out = bump(&["check", "/nonexistent/x.pdb"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("/nonexistent/x.pdb"),
+        "{}",
+        stderr(&out)
+    );
+
+    let dir = std::env::temp_dir().join(format!("bump-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    let bad = dir.join("bad.sdf");
+    std::fs::write(&bad, "name\n  prog\n\n  2  0  0  0  0  0  0  0  0  0999 V2000\n    0.0000    0.0000    0.0000 C   0  0\n    x.0000    0.0000    0.0000 C   0  0\nM  END\n$$$$\n").expect("write");
+    let out = bump(&["check", "builtin"]);
+    assert!(out.status.success());
+    let out = bump(&["stats", bad.to_str().expect("path")]);
+    assert_eq!(out.status.code(), Some(2));
+    let e = stderr(&out);
+    assert!(e.contains("bad.sdf") && e.contains(":6"), "{e}");
+    let empty = dir.join("empty.pdb");
+    std::fs::write(&empty, "REMARK nothing here\nEND\n").expect("write");
+    let out = bump(&["stats", empty.to_str().expect("path")]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("empty.pdb"), "{}", stderr(&out));
+    let out = bump(&["touch", "builtin", "--move", "1,2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("X,Y,Z"), "{}", stderr(&out));
+    let out = bump(&["check", "builtin", "--collider", "octree"]);
+    assert!(stderr(&out).contains("brute, grid or hashed"));
+    let out = bump(&["touch", "builtin", "--move", "0,0,1", "--overlap", "nan"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = bump(&["check", "unknown.xyz"]);
+    assert!(stderr(&out).contains("unknown format"), "{}", stderr(&out));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn no_subcommand_describes_the_builtin_scene() {
+    let out = bump(&[]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("triple ring") && text.contains("colliding pairs at the file pose: 0"));
+}

@@ -1,0 +1,384 @@
+//! Move-to-touch against exact answers: the closed-form time of impact for
+//! translations, a dense f64 search for screw motions, and parry3d's shape
+//! casts on the same queries. Plus the thin wall, the 1000 Å step and the
+//! numerical stress cases. Worst errors are printed (`--nocapture`).
+
+mod common;
+
+use bump::collide::{
+    Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, move_to_touch,
+};
+use bump::model::Molecule;
+use bump::motion::{Pose, Screw};
+use common::*;
+use glam::{DQuat, DVec3};
+
+const TOL: f64 = 1e-3;
+
+struct Setup {
+    rule: ContactRule,
+    receptor: Molecule,
+    drug: Molecule,
+    cols: Vec<Collider>,
+    atoms: DrugAtoms,
+}
+
+fn setup(rng: &mut Rng, n: usize, m: usize, polar: bool, rule: ContactRule) -> Setup {
+    let receptor = random_molecule(rng, n, 30.0, DVec3::new(-4e4, 2.0, 1e5), polar);
+    let drug = random_molecule(rng, m, 7.0, DVec3::new(3.0, 1e5, 0.0), polar);
+    let cols = all_colliders(&receptor, &rule);
+    let atoms = DrugAtoms::new(&drug, &rule, cols[0].max_radius());
+    Setup {
+        rule,
+        receptor,
+        drug,
+        cols,
+        atoms,
+    }
+}
+
+/// A collision-free start pose outside the receptor, and an approach motion.
+fn random_query(rng: &mut Rng, s: &Setup, rotate: bool) -> (Pose, Pose) {
+    loop {
+        let dir = rng.unit();
+        let start = Pose::new(
+            DQuat::from_axis_angle(rng.unit(), rng.range(0.0, 3.0)),
+            dir * rng.range(14.0, 30.0),
+        );
+        if collides_f64(&s.rule, &s.receptor, &s.drug, &start)
+            || min_gap_f64(&s.rule, &s.receptor, &s.drug, &start) < 0.01
+        {
+            continue;
+        }
+        let travel = -dir * rng.range(1.0, 30.0) + rng.unit() * rng.range(0.0, 5.0);
+        let (axis, ang) = if rotate {
+            (rng.unit(), rng.range(-1.2, 1.2))
+        } else {
+            (DVec3::X, 0.0)
+        };
+        return (start, start.moved(travel, axis, ang));
+    }
+}
+
+#[test]
+fn translations_match_the_closed_form() {
+    let mut rng = Rng(0x5eed);
+    let mut worst_travel: f64 = 0.0;
+    let mut worst_gap: f64 = 0.0;
+    let mut hits = 0;
+    for case in 0..300 {
+        let s = setup(&mut rng, 300, 15, case % 2 == 0, ContactRule::default());
+        let (start, end) = random_query(&mut rng, &s, false);
+        let d = end.translation - start.translation;
+        let exact = exact_translation_toi(&s.rule, &s.receptor, &s.drug, &start, d);
+        for c in &s.cols {
+            let r = move_to_touch(c, &s.atoms, &start, &end, &TouchOptions::default());
+            let g = min_gap_f64(&s.rule, &s.receptor, &s.drug, &r.pose);
+            assert!(g > 0.0, "overlap {g} ({:?}, case {case})", c.kind());
+            assert!(r.t.is_finite() && (0.0..=1.0).contains(&r.t));
+            match exact {
+                None => assert_eq!(r.t, 1.0, "case {case}: free path not taken"),
+                Some(te) => {
+                    hits += 1;
+                    assert!(r.t <= te, "case {case}: passed contact {} > {te}", r.t);
+                    assert!(
+                        g <= TOL + 1e-6,
+                        "case {case}: stopped {g} Å short of contact"
+                    );
+                    worst_travel = worst_travel.max((te - r.t) * d.length());
+                    worst_gap = worst_gap.max(g);
+                    assert!(!r.contacts.is_empty());
+                }
+            }
+        }
+    }
+    println!(
+        "closed form: {hits} hits, worst gap at stop {worst_gap:.2e} Å, worst travel short of exact contact {worst_travel:.2e} Å"
+    );
+    assert!(hits > 100);
+}
+
+#[test]
+fn screw_motions_match_a_dense_search() {
+    let mut rng = Rng(0xfeed);
+    let mut worst_gap: f64 = 0.0;
+    let mut worst_t: f64 = 0.0;
+    let mut hits = 0;
+    for case in 0..80 {
+        let s = setup(&mut rng, 150, 8, case % 2 == 1, ContactRule::default());
+        let (start, end) = random_query(&mut rng, &s, true);
+        let screw = Screw::between(start, end);
+        let dense = dense_screw_toi(&s.rule, &s.receptor, &s.drug, &screw, 4000);
+        let smax = max_speed(&s.atoms, &screw);
+        for c in &s.cols {
+            let r = move_to_touch(c, &s.atoms, &start, &end, &TouchOptions::default());
+            let g = min_gap_f64(&s.rule, &s.receptor, &s.drug, &r.pose);
+            assert!(g > 0.0, "overlap {g} at case {case}");
+            match dense {
+                None => assert_eq!(r.t, 1.0, "case {case}"),
+                Some(td) => {
+                    hits += 1;
+                    assert!(r.t <= td + 1e-9, "case {case}: {} beyond {td}", r.t);
+                    assert!(g <= TOL + 1e-6, "case {case}: gap {g}");
+                    worst_gap = worst_gap.max(g);
+                    worst_t = worst_t.max((td - r.t) * smax);
+                }
+            }
+        }
+    }
+    println!(
+        "dense screw search: {hits} hits, worst gap at stop {worst_gap:.2e} Å, worst travel short {worst_t:.2e} Å"
+    );
+    assert!(hits > 20);
+}
+
+#[test]
+fn agrees_with_parry3d_shape_casts() {
+    use parry3d::math::{Pose as PPose, Vector};
+    use parry3d::query::{self, NonlinearRigidMotion, ShapeCastOptions};
+    use parry3d::shape::{Compound, SharedShape};
+
+    // parry's balls of radius r − 0.3 touch exactly where the rule's
+    // non-polar contact is (overlap 0.6); polar atoms are left out.
+    let compound = |m: &Molecule| {
+        Compound::new(
+            m.local
+                .iter()
+                .zip(&m.atoms)
+                .map(|(p, a)| {
+                    (
+                        PPose::from_translation(Vector::new(p.x, p.y, p.z)),
+                        SharedShape::ball(a.radius - 0.3),
+                    )
+                })
+                .collect(),
+        )
+    };
+    let mut rng = Rng(0xabc);
+    let (mut worst_lin, mut worst_rot, mut n_lin, mut n_rot) = (0.0f64, 0.0f64, 0, 0);
+    for case in 0..60 {
+        let s = setup(&mut rng, 200, 10, false, ContactRule::default());
+        let rec = compound(&s.receptor);
+        let dr = compound(&s.drug);
+        let rotate = case % 2 == 1;
+        let (start, end) = random_query(&mut rng, &s, rotate);
+        let r = move_to_touch(&s.cols[2], &s.atoms, &start, &end, &TouchOptions::default());
+        let to_p = |p: &Pose| {
+            let q = p.rotation.as_quat();
+            PPose::from_parts(p.translation.as_vec3(), q)
+        };
+        let screw = Screw::between(start, end);
+        let smax = max_speed(&s.atoms, &screw);
+        let parry_t = if !rotate {
+            let v = (end.translation - start.translation).as_vec3();
+            query::cast_shapes(
+                &PPose::IDENTITY,
+                Vector::ZERO,
+                &rec,
+                &to_p(&start),
+                v,
+                &dr,
+                ShapeCastOptions::with_max_time_of_impact(1.0),
+            )
+            .expect("supported")
+            .map(|h| f64::from(h.time_of_impact))
+        } else {
+            // A screw is parry's nonlinear motion about a point on the screw axis.
+            let a = screw.axis_point().expect("rotating");
+            let local_a = start.inverse().transform_point(a).as_vec3();
+            let motion = NonlinearRigidMotion::new(
+                to_p(&start),
+                local_a,
+                screw.slide().as_vec3(),
+                (screw.axis() * screw.angle()).as_vec3(),
+            );
+            let still = NonlinearRigidMotion::constant_position(PPose::IDENTITY);
+            query::cast_shapes_nonlinear(&still, &rec, &motion, &dr, 0.0, 1.0, true)
+                .expect("supported")
+                .map(|h| f64::from(h.time_of_impact))
+        };
+        let ours = (r.t < 1.0).then_some(r.t);
+        match (ours, parry_t) {
+            (None, None) => {}
+            (Some(a), Some(b)) => {
+                let err = (a - b).abs() * smax;
+                if rotate {
+                    worst_rot = worst_rot.max(err);
+                    n_rot += 1;
+                } else {
+                    worst_lin = worst_lin.max(err);
+                    n_lin += 1;
+                }
+            }
+            (a, b) => {
+                // Only acceptable when the contact is within f32/tolerance noise of t = 1.
+                let t = a.or(b).unwrap_or(1.0);
+                assert!(
+                    (1.0 - t) * smax < 1e-2,
+                    "case {case}: ours {a:?}, parry {b:?}"
+                );
+            }
+        }
+    }
+    println!(
+        "parry3d: {n_lin} translations, worst |Δt|·speed {worst_lin:.2e} Å; {n_rot} screws, worst {worst_rot:.2e} Å"
+    );
+    assert!(worst_lin < 0.05 && worst_rot < 0.05);
+    assert!(n_lin + n_rot > 20);
+}
+
+/// A one-atom-thick wall of carbon at z = 0, 40 × 40 Å.
+fn wall() -> Molecule {
+    let mut atoms = Vec::new();
+    let mut pos = Vec::new();
+    for i in 0..27 {
+        for j in 0..27 {
+            atoms.push(atom((i * 27 + j) as i64 + 1, "C", 1.7));
+            pos.push(DVec3::new(
+                i as f64 * 1.5 - 20.0,
+                j as f64 * 1.5 - 20.0,
+                0.0,
+            ));
+        }
+    }
+    Molecule::new("wall", atoms, &pos)
+}
+
+#[test]
+fn a_1000_angstrom_step_never_passes_a_thin_wall() {
+    let rule = ContactRule::default();
+    let w = wall();
+    let mut rng = Rng(3);
+    let drug = random_molecule(&mut rng, 12, 5.0, DVec3::ZERO, true);
+    for kind in ColliderKind::ALL {
+        let c = Collider::build(&w, &rule, kind);
+        let d = DrugAtoms::new(&drug, &rule, c.max_radius());
+        let start = Pose::from_translation(DVec3::new(0.3, -0.2, -500.0));
+        let end = start.moved(DVec3::new(0.0, 0.0, 1000.0), DVec3::X, 0.0);
+        let r = move_to_touch(&c, &d, &start, &end, &TouchOptions::default());
+        assert!(r.t < 0.5 && r.t > 0.49, "{kind:?}: t = {}", r.t);
+        assert!(r.pose.translation.z < 0.0);
+        assert!(min_gap_f64(&rule, &w, &drug, &r.pose) > 0.0);
+        assert!(!r.contacts.is_empty());
+        // With a spin about the direction of travel (a helix through the wall).
+        let end2 = start.moved(DVec3::new(0.0, 0.0, 1000.0), DVec3::Z, 2.5);
+        let r2 = move_to_touch(&c, &d, &start, &end2, &TouchOptions::default());
+        assert!(r2.pose.translation.z < 0.0 && r2.t < 0.5, "{kind:?}");
+        assert!(min_gap_f64(&rule, &w, &drug, &r2.pose) > 0.0);
+        // A spin about y makes the screw an arc about a distant axis: wherever
+        // it stops, no sampled pose on the way overlaps the wall.
+        let end3 = start.moved(DVec3::new(0.0, 0.0, 1000.0), DVec3::Y, 2.5);
+        let r3 = move_to_touch(&c, &d, &start, &end3, &TouchOptions::default());
+        let screw = Screw::between(start, end3);
+        for k in 0..=20_000 {
+            let t = r3.t * k as f64 / 20_000.0;
+            assert!(
+                !collides_f64(&rule, &w, &drug, &screw.pose_at(t)),
+                "{kind:?} at {t}"
+            );
+        }
+        // The thesis's method looks only at the end pose: it tunnels.
+        let thesis = TouchOptions {
+            method: Method::Thesis,
+            ..TouchOptions::default()
+        };
+        let rt = move_to_touch(&c, &d, &start, &end, &thesis);
+        assert_eq!(rt.t, 1.0, "the thesis method should tunnel here");
+    }
+}
+
+#[test]
+fn stress_cases_never_overlap_nan_or_panic() {
+    let rule = ContactRule::default();
+    let far = DVec3::new(1e5, -1e5, 1e5);
+    let two = |d: f64| {
+        let r = Molecule::new("r", vec![atom(1, "C", 1.7)], &[far]);
+        let m = Molecule::new(
+            "d",
+            vec![atom(1, "C", 1.7)],
+            &[far + DVec3::new(d, 0.0, 0.0)],
+        );
+        (r, m)
+    };
+    for kind in ColliderKind::ALL {
+        let (r, m) = two(5.0);
+        let c = Collider::build(&r, &rule, kind);
+        let d = DrugAtoms::new(&m, &rule, c.max_radius());
+        let start = Pose::from_translation(m.centre - r.centre);
+        let opts = TouchOptions::default();
+        // Tiny and huge steps towards the receptor atom.
+        for step in [1e-9, 1e-3, 1.0, 1e3] {
+            let end = start.moved(DVec3::new(-step, 0.0, 0.0), DVec3::Z, 0.0);
+            let res = move_to_touch(&c, &d, &start, &end, &opts);
+            let x = res.pose.translation.x;
+            assert!(res.t.is_finite() && x.is_finite());
+            assert!(x > 2.8, "{kind:?} step {step}: overlap at {x}");
+            if step < 2.0 {
+                assert_eq!(res.t, 1.0);
+            } else {
+                assert!(x < 2.8 + TOL + 1e-6, "{kind:?}: stopped at {x}");
+            }
+        }
+        // Zero-length motion.
+        let res = move_to_touch(&c, &d, &start, &start, &opts);
+        assert_eq!(res.t, 1.0);
+        assert_eq!(res.pose, start);
+        // Exactly touching (d = c = 2.8 Å) collides by the rule: it may move away, not closer.
+        let touching = Pose::from_translation(DVec3::new(2.8, 0.0, 0.0));
+        let away = touching.moved(DVec3::new(1.0, 0.0, 0.0), DVec3::Z, 0.0);
+        let closer = touching.moved(DVec3::new(-1.0, 0.0, 0.0), DVec3::Z, 0.0);
+        let ra = move_to_touch(&c, &d, &touching, &away, &opts);
+        assert!(ra.start_collides() && ra.t == 1.0, "{kind:?}: {}", ra.t);
+        let rc = move_to_touch(&c, &d, &touching, &closer, &opts);
+        assert!(rc.t == 0.0 && rc.pose.translation.x >= 2.8 - 1e-6);
+        // Coincident atoms: frozen against deepening, free to leave.
+        let same = Pose::IDENTITY;
+        let leave = same.moved(DVec3::new(0.0, 4.0, 0.0), DVec3::Z, 0.0);
+        let rl = move_to_touch(&c, &d, &same, &leave, &opts);
+        assert!(rl.start_collides() && rl.t.is_finite() && !rl.pose.translation.is_nan());
+        // A spin about a coincident atom neither deepens nor separates: allowed.
+        let spin = same.moved(DVec3::ZERO, DVec3::Z, 1.0);
+        let rs = move_to_touch(&c, &d, &same, &spin, &opts);
+        assert!(rs.t.is_finite());
+        // In contact within tolerance, then moving away and sideways.
+        let near = Pose::from_translation(DVec3::new(2.8005, 0.0, 0.0));
+        let side = near.moved(DVec3::new(0.0, 3.0, 0.0), DVec3::Z, 0.0);
+        let rn = move_to_touch(&c, &d, &near, &side, &opts);
+        assert_eq!(rn.t, 1.0, "{kind:?}: sliding off a contact is free");
+        let rin = move_to_touch(&c, &d, &near, &closer, &opts);
+        assert!(rin.t < 1e-3 && rin.pose.translation.x > 2.8);
+        // Non-finite input never panics.
+        let bad = Pose::from_translation(DVec3::new(f64::NAN, 0.0, 0.0));
+        let rb = move_to_touch(&c, &d, &start, &bad, &opts);
+        assert_eq!(rb.t, 0.0);
+    }
+}
+
+#[test]
+fn a_colliding_start_allows_only_motions_that_do_not_deepen() {
+    let rule = ContactRule::default();
+    let mut rng = Rng(99);
+    let receptor = random_molecule(&mut rng, 300, 25.0, DVec3::ZERO, true);
+    let drug = random_molecule(&mut rng, 10, 6.0, DVec3::ZERO, true);
+    let c = Collider::build(&receptor, &rule, ColliderKind::Hashed);
+    let d = DrugAtoms::new(&drug, &rule, c.max_radius());
+    let start = Pose::IDENTITY; // buried in the random receptor: collides
+    let r0 = move_to_touch(
+        &c,
+        &d,
+        &start,
+        &start.moved(DVec3::X * 3.0, DVec3::Z, 0.4),
+        &TouchOptions::default(),
+    );
+    assert!(r0.start_collides());
+    // Every pair colliding at the start is no closer at the result.
+    let before = bump::collide::check(&c, &d, &start);
+    let after = bump::collide::check(&c, &d, &r0.pose);
+    for p in &after {
+        let b = before
+            .iter()
+            .find(|b| (b.receptor, b.drug) == (p.receptor, p.drug));
+        let b = b.expect("no new collisions");
+        assert!(p.distance >= b.distance - 1e-4);
+    }
+}
