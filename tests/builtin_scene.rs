@@ -68,32 +68,49 @@ fn a_misaligned_push_touches_and_each_response_behaves() {
     let pass = s.respond(&start, &end, Response::Pass, &opts);
     assert_eq!(pass.pose, end);
     assert!(!pass.colliding.is_empty(), "pass reports the overlaps");
-    // Slide: a push that is mostly along z but also skewed in y goes further
-    // along z than touch alone, and never overlaps.
-    let skew = start.moved(DVec3::new(0.0, 0.0, 25.0), DVec3::Z, 0.0);
-    let slide = s.respond(&start, &skew, Response::Slide, &opts);
+    // Slide: never overlaps, and never moves against the push.
+    let slide = s.respond(&start, &end, Response::Slide, &opts);
     assert!(slide.colliding.is_empty());
-    assert!(slide.pose.translation.z >= touch.pose.translation.z - 1e-9);
     assert!(s.check(&slide.pose).is_empty());
+    let push = end.translation - start.translation;
+    assert!((slide.pose.translation - touch.pose.translation).dot(push) >= -1e-9);
 }
 
 #[test]
-fn slide_goes_around_a_glancing_contact() {
-    let s = scene(RadiiSet::Bondi, ColliderKind::Hashed);
-    // Aligned with the rings but pushed diagonally: the prongs meet the ring
-    // wall at a slant, and sliding carries them on along z.
-    let start = s.file_relative(DVec3::new(0.0, 2.0, 0.0));
-    let end = start.moved(DVec3::new(0.0, 4.0, 25.0), DVec3::Z, 0.0);
+fn slide_carries_on_along_a_flat_wall() {
+    // A one-atom-thick wall of carbon at z = 0 and a small drug pushed into it
+    // at a slant: touch stops at the wall, slide keeps the along-wall motion.
+    let mut atoms = Vec::new();
+    let mut pos = Vec::new();
+    for i in 0..31 {
+        for j in 0..31 {
+            let mut a = builtin::triple_ring(RadiiSet::Bondi).atoms[0].clone();
+            a.serial = (i * 31 + j) as i64 + 1;
+            atoms.push(a);
+            pos.push(DVec3::new(
+                i as f64 * 1.2 - 18.0,
+                j as f64 * 1.2 - 18.0,
+                0.0,
+            ));
+        }
+    }
+    let wall = bump::model::Molecule::new("wall", atoms, &pos);
+    let (_, e) = builtin::scene(RadiiSet::Bondi);
+    let probe = bump::model::Molecule::new("probe", vec![e.atoms[0].clone()], &[DVec3::ZERO]);
+    let s = Scene::new(wall, probe, ContactRule::default(), ColliderKind::Grid);
+    let start = bump::motion::Pose::from_translation(DVec3::new(-6.0, 0.3, -6.0));
+    let end = start.moved(DVec3::new(10.0, 0.0, 8.0), DVec3::Z, 0.0);
     let opts = TouchOptions::default();
     let touch = s.respond(&start, &end, Response::Touch, &opts);
     let slide = s.respond(&start, &end, Response::Slide, &opts);
     assert!(touch.t < 1.0);
     assert!(slide.legs > 1);
-    assert!(
-        slide.pose.translation.z > touch.pose.translation.z + 1.0,
-        "slide {} vs touch {}",
-        slide.pose.translation.z,
-        touch.pose.translation.z
-    );
     assert!(s.check(&slide.pose).is_empty());
+    assert!(slide.pose.translation.z < 0.0, "slid through the wall");
+    assert!(
+        slide.pose.translation.x > touch.pose.translation.x + 2.0,
+        "slide {} vs touch {}",
+        slide.pose.translation.x,
+        touch.pose.translation.x
+    );
 }

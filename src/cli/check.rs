@@ -68,14 +68,14 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         clashes: pair_reports(&scene.rule, &scene.receptor, &scene.drug, &pairs),
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        outln!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
     }
-    println!(
+    outln!(
         "receptor {} ({} atoms), drug {} ({} atoms)",
         report.receptor.name, report.receptor.atoms, report.drug.name, report.drug.atoms
     );
-    println!(
+    outln!(
         "rule: overlap >= {} Å (+{} Å for N/O pairs), {} radii, hydrogens {}; collider {}",
         report.rule.overlap,
         report.rule.hbond_allowance,
@@ -83,7 +83,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         report.rule.hydrogens,
         report.collider
     );
-    println!(
+    outln!(
         "{} colliding pair{} ({:.1} µs; collider built in {:.0} µs)",
         report.clash_count,
         if report.clash_count == 1 { "" } else { "s" },

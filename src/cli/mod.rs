@@ -1,6 +1,12 @@
 //! Command-line parsing and dispatch. Errors become `anyhow` here, at the
 //! binary's edge; the library below speaks `thiserror`.
 
+/// `println!` for command output: a closed stdout (`bump ... | head`) ends
+/// the program quietly instead of panicking.
+macro_rules! outln {
+    ($($arg:tt)*) => { $crate::cli::write_line(format_args!($($arg)*)) };
+}
+
 mod check;
 mod report;
 mod scene_args;
@@ -31,6 +37,19 @@ enum Command {
     Stats(stats::StatsArgs),
 }
 
+/// Writes one line to stdout; exits 0 on a broken pipe, 2 on any other error.
+pub fn write_line(args: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n")) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("bump: error: cannot write output: {e}");
+        std::process::exit(2);
+    }
+}
+
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
@@ -46,7 +65,7 @@ fn describe(files: &[std::path::PathBuf]) -> anyhow::Result<()> {
     let args = SceneArgs::from_files(files)?;
     let loaded = args.load()?;
     let scene = &loaded.scene;
-    println!(
+    outln!(
         "receptor: {} ({} atoms)\ndrug:     {} ({} atoms)",
         scene.receptor.name,
         scene.receptor.len(),
@@ -54,8 +73,8 @@ fn describe(files: &[std::path::PathBuf]) -> anyhow::Result<()> {
         scene.drug.len()
     );
     let pairs = scene.check(&scene.file_relative(glam::DVec3::ZERO));
-    println!("colliding pairs at the file pose: {}", pairs.len());
-    println!(
+    outln!("colliding pairs at the file pose: {}", pairs.len());
+    outln!(
         "The docking window is not built yet; use `bump check`, `bump touch` or `bump stats` (see `bump --help`)."
     );
     Ok(())

@@ -80,12 +80,12 @@ pub fn print_pairs(reports: &[PairReport]) {
     if reports.is_empty() {
         return;
     }
-    println!(
+    outln!(
         "  {:>7} {:<4} {:<4} {:>5} {:<2} | {:>6} {:<4} {:<4} | {:>7} {:>7} {:>7}",
         "serial", "name", "res", "seq", "ch", "serial", "name", "res", "dist", "overlap", "gap"
     );
     for r in reports {
-        println!(
+        outln!(
             "  {:>7} {:<4} {:<4} {:>5} {:<2} | {:>6} {:<4} {:<4} | {:>7.3} {:>7.3} {:>7.3}",
             r.receptor_serial,
             r.receptor_name,

@@ -180,7 +180,8 @@ impl SceneArgs {
                     opts.sdf_record = self.record;
                     let d = model::load(drug_path, &opts)?;
                     warn(&d.warnings);
-                    let drug = receptor_only(&d.structure)?;
+                    let mut drug = receptor_only(&d.structure)?;
+                    drug.name = d.structure.name.clone();
                     (receptor, drug, drug_path.display().to_string())
                 }
                 None => {

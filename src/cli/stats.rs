@@ -75,14 +75,14 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<()> {
         });
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        outln!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());
     }
-    println!(
+    outln!(
         "average atoms per non-empty cell ({} radii; sphere overlap counts an atom in every cell it touches)",
         radii.name()
     );
-    println!(
+    outln!(
         "{:<28} {:>7} {:>6} | {:>14} {:>14} | {:>14} {:>14}",
         "file", "atoms", "cell Å", "hashed overlap", "grid overlap", "hashed centre", "grid centre"
     );
@@ -91,7 +91,7 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<()> {
             .file_name()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| r.file.clone());
-        println!(
+        outln!(
             "{:<28} {:>7} {:>6.2} | {:>14.2} {:>14.2} | {:>14.2} {:>14.2}",
             name,
             r.row.atoms,

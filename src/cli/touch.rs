@@ -14,6 +14,9 @@ use super::report::{
 use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed};
 use bump::motion::pose::PoseSummary;
 
+/// How far beyond contact the nearest-pair report looks, in Å.
+const NEAREST_WITHIN: f32 = 4.0;
+
 /// Arguments of `bump touch`.
 #[derive(Debug, Args)]
 pub struct TouchArgs {
@@ -109,6 +112,12 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     let (r, us) =
         timed(5, || scene.respond(&start, &end, args.response, &opts)).context("move-to-touch")?;
     let world = scene.world_from_relative(&r.pose);
+    let nearest = bump::collide::min_gap(
+        scene.collider(),
+        scene.drug_atoms(),
+        &r.pose,
+        NEAREST_WITHIN,
+    );
     let rep = |p| pair_reports(&scene.rule, &scene.receptor, &scene.drug, p);
     let report = TouchReport {
         receptor: molecule_report(&loaded.receptor_source, &scene.receptor),
@@ -132,18 +141,16 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         },
         contacts: rep(&r.contacts),
         colliding_at_end: rep(&r.colliding),
-        min_gap: r.nearest.map(|p| p.gap()),
-        nearest: r
-            .nearest
-            .map(|p| pair_report(&scene.rule, &scene.receptor, &scene.drug, &p)),
+        min_gap: nearest.map(|p| p.gap()),
+        nearest: nearest.map(|p| pair_report(&scene.rule, &scene.receptor, &scene.drug, &p)),
         build_us: loaded.build_us,
         elapsed_us: us,
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        outln!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
     }
-    println!(
+    outln!(
         "receptor {} ({} atoms), drug {} ({} atoms); collider {}, response {}, method {}",
         report.receptor.name,
         report.receptor.atoms,
@@ -154,14 +161,14 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         report.method
     );
     if report.start_collides {
-        println!(
+        outln!(
             "WARNING: the start pose already collides ({} pairs); only motions that do not deepen them are allowed:",
             report.start_clashes.len()
         );
         print_pairs(&report.start_clashes);
     }
     let f = &report.final_pose;
-    println!(
+    outln!(
         "t = {:.6} of the motion ({:.1} µs)\nfinal centre ({:.4}, {:.4}, {:.4}), moved ({:.4}, {:.4}, {:.4}); rotation {:.3}° about ({:.3}, {:.3}, {:.3})",
         report.t,
         report.elapsed_us,
@@ -177,10 +184,10 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         f.pose.axis[2]
     );
     match report.min_gap {
-        Some(g) => println!("smallest gap {g:.4} Å"),
-        None => println!("no receptor atom within 4 Å of contact"),
+        Some(g) => outln!("smallest gap {g:.4} Å"),
+        None => outln!("no receptor atom within 4 Å of contact"),
     }
-    println!(
+    outln!(
         "{} pair{} in contact (gap <= {} Å):",
         report.contacts.len(),
         if report.contacts.len() == 1 { "" } else { "s" },
@@ -188,7 +195,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     );
     print_pairs(&report.contacts);
     if !report.colliding_at_end.is_empty() {
-        println!(
+        outln!(
             "{} pairs collide at the final pose",
             report.colliding_at_end.len()
         );

@@ -12,8 +12,9 @@
 //!   row of cells is one contiguous run.
 //! - [`ColliderKind::Hashed`] hashes cell coordinates into a table whose size is
 //!   chosen from the atom count (the thesis's variant: one pass, no bounds).
-//!   Distinct cells can share a bucket, so a query dedups buckets before
-//!   scanning them, and the distance test drops atoms of far cells.
+//!   Distinct cells can share a bucket, so each stored atom keeps its cell
+//!   coordinates and a scan of a bucket reports only the atoms of the cell
+//!   asked for: no atom twice, no far atom.
 //!
 //! The cell edge is the largest contact distance a receptor atom can have with
 //! a drug atom as large as itself, so a static query touches at most 27 cells.
@@ -74,6 +75,9 @@ pub struct Collider {
     meta: Vec<u32>,
     /// Storage slot of each receptor atom, by receptor index.
     slot: Vec<u32>,
+    /// Integer cell of each stored atom (hashed index only; empty otherwise),
+    /// so a bucket scan keeps just the atoms of the cell asked for.
+    cells: Vec<[i32; 3]>,
     index: Index,
     cell: f32,
     max_radius: f32,
@@ -236,11 +240,26 @@ impl Collider {
         for (k, &i) in order.iter().enumerate() {
             slot[i as usize] = k as u32;
         }
+        let cells = match &index {
+            Index::Hashed { inv_cell, .. } => order
+                .iter()
+                .map(|&i| {
+                    let p = receptor.local[i as usize];
+                    [
+                        cell_of(p.x, 0.0, *inv_cell),
+                        cell_of(p.y, 0.0, *inv_cell),
+                        cell_of(p.z, 0.0, *inv_cell),
+                    ]
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
         Self {
             kind,
             atoms,
             meta,
             slot,
+            cells,
             index,
             cell,
             max_radius,
@@ -292,8 +311,8 @@ impl Collider {
     /// test distances). Brute force visits every atom.
     ///
     /// # Performance
-    /// Grid: one contiguous run per row of cells. Hashed: one run per distinct
-    /// bucket of the cells in the box. Neither depends on the receptor's size.
+    /// Grid: one contiguous run per row of cells. Hashed: one bucket per cell,
+    /// filtered by cell. Neither depends on the receptor's size.
     #[inline]
     pub fn visit<F: FnMut(Vec4, u32)>(&self, lo: Vec3, hi: Vec3, mut f: F) {
         match &self.index {
@@ -345,49 +364,26 @@ impl Collider {
                 let count = (i64::from(x1) - i64::from(x0) + 1)
                     * (i64::from(y1) - i64::from(y0) + 1)
                     * (i64::from(z1) - i64::from(z0) + 1);
-                let mut scan = |b: u32| {
-                    let a = start[b as usize] as usize;
-                    let e = start[b as usize + 1] as usize;
-                    for k in a..e {
-                        f(self.atoms[k], self.meta[k]);
-                    }
-                };
-                if count > i64::from(*mask) {
-                    // The box covers more cells than there are buckets: scan them all.
-                    for b in 0..=*mask {
-                        scan(b);
+                if count > i64::from(*mask) + 1 {
+                    // The box covers more cells than there are buckets: every
+                    // atom once is cheaper than every cell.
+                    for (a, m) in self.atoms.iter().zip(&self.meta) {
+                        f(*a, *m);
                     }
                     return;
                 }
-                let mut small = [0u32; 64];
-                let mut big = Vec::new();
-                let buckets: &mut [u32] = if count <= 64 {
-                    let mut n = 0;
-                    for z in z0..=z1 {
-                        for y in y0..=y1 {
-                            for x in x0..=x1 {
-                                small[n] = hash_cell(x, y, z, *mask);
-                                n += 1;
+                // Distinct cells may share a bucket: keep only the atoms of the
+                // cell being visited, so each atom is reported once.
+                for z in z0..=z1 {
+                    for y in y0..=y1 {
+                        for x in x0..=x1 {
+                            let b = hash_cell(x, y, z, *mask) as usize;
+                            for k in start[b] as usize..start[b + 1] as usize {
+                                if self.cells[k] == [x, y, z] {
+                                    f(self.atoms[k], self.meta[k]);
+                                }
                             }
                         }
-                    }
-                    &mut small[..n]
-                } else {
-                    for z in z0..=z1 {
-                        for y in y0..=y1 {
-                            for x in x0..=x1 {
-                                big.push(hash_cell(x, y, z, *mask));
-                            }
-                        }
-                    }
-                    &mut big
-                };
-                buckets.sort_unstable();
-                let mut prev = u32::MAX;
-                for &b in buckets.iter() {
-                    if b != prev {
-                        scan(b);
-                        prev = b;
                     }
                 }
             }

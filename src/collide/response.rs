@@ -8,18 +8,20 @@
 //!   space of the contacts and go on, a few times (the thesis's future work).
 //!   The projection works on the 6-D twist: each contact with normal `n` at
 //!   drug atom `x` forbids `n·(v + ω × (x − c)) < 0`; violated constraints are
-//!   removed by cyclic projection (Gauss–Seidel), then the drug moves to touch
-//!   along what remains.
+//!   removed by cyclic projection (Gauss–Seidel) in the metric
+//!   `|Δv|² + L²|Δω|²` (`L` the drug's size), then the drug moves to touch
+//!   along what remains. A pure translation is projected as a translation, so
+//!   pushing never makes the drug spin.
 //! - `pass`: move freely and only report contacts (what the thesis's users
 //!   asked for most).
 
 use glam::DVec3;
 use serde::Serialize;
 
-use super::check::{Pair, check, min_gap, pairs_within};
+use super::check::{Pair, check, pairs_within};
 use super::collider::Collider;
 use super::drug::DrugAtoms;
-use super::sweep::{NEAREST_WITHIN, TouchOptions, TouchResult, move_to_touch};
+use super::sweep::{TouchOptions, TouchResult, move_to_touch};
 use crate::motion::{Pose, Screw};
 
 /// How the session answers a step that would collide.
@@ -85,8 +87,6 @@ pub struct StepResult {
     pub colliding: Vec<Pair>,
     /// Pairs colliding at the start pose.
     pub start_colliding: Vec<Pair>,
-    /// The pair with the smallest gap at the new pose, within 4 Å of contact.
-    pub nearest: Option<Pair>,
 }
 
 impl StepResult {
@@ -99,7 +99,6 @@ impl StepResult {
             contacts: r.contacts,
             colliding: r.colliding,
             start_colliding: r.start_colliding,
-            nearest: r.nearest,
         }
     }
 }
@@ -123,16 +122,14 @@ pub fn respond(
             if r.t >= 1.0 {
                 return StepResult::from_touch(response, r, 1);
             }
-            let colliding = check(collider, drug, start);
             StepResult {
                 response,
                 t: 0.0,
                 legs: 1,
                 pose: *start,
                 contacts: r.contacts,
-                colliding,
+                colliding: r.start_colliding.clone(),
                 start_colliding: r.start_colliding,
-                nearest: min_gap(collider, drug, start, NEAREST_WITHIN),
             }
         }
         Response::Pass => {
@@ -146,7 +143,6 @@ pub fn respond(
                 contacts,
                 colliding,
                 start_colliding: check(collider, drug, start),
-                nearest: min_gap(collider, drug, end, NEAREST_WITHIN),
             }
         }
         Response::Slide => slide(collider, drug, start, end, opts),
@@ -175,9 +171,14 @@ fn slide(
         let screw = Screw::between(from, to);
         let rest = 1.0 - r.t;
         let centre = r.pose.translation;
-        let mut v = screw.velocity_at(centre) * rest;
-        let mut w = screw.axis() * (screw.angle() * rest);
-        let rows: Vec<(DVec3, DVec3)> = r
+        let v = screw.velocity_at(centre) * rest;
+        let w = screw.axis() * (screw.angle() * rest);
+        // Pure pushes slide without turning; motions that turn project the
+        // twist with rotations weighted by the drug's size, i.e. in the
+        // coordinates u = (v, L·ω), so sliding does not become spinning.
+        let translate_only = screw.angle() == 0.0;
+        let l = drug.extent.max(1.0);
+        let rows: Vec<[f64; 6]> = r
             .contacts
             .iter()
             .filter_map(|p| {
@@ -186,24 +187,17 @@ fn slide(
                     .transform_point(drug.local[p.drug as usize].as_dvec3());
                 let q = collider.atom_position(p.receptor).as_dvec3();
                 let n = (x - q).try_normalize()?;
-                Some((n, (x - centre).cross(n)))
+                let rn = if translate_only {
+                    DVec3::ZERO
+                } else {
+                    (x - centre).cross(n) / l
+                };
+                Some([n.x, n.y, n.z, rn.x, rn.y, rn.z])
             })
             .collect();
-        for _ in 0..16 {
-            let mut worst = 0.0f64;
-            for (n, rn) in &rows {
-                let j = n.dot(v) + rn.dot(w);
-                if j < 0.0 {
-                    let norm = n.length_squared() + rn.length_squared();
-                    v -= *n * (j / norm);
-                    w -= *rn * (j / norm);
-                    worst = worst.min(j);
-                }
-            }
-            if worst > -1e-12 {
-                break;
-            }
-        }
+        let u = project_onto_cone([v.x, v.y, v.z, w.x * l, w.y * l, w.z * l], &rows);
+        let v = DVec3::new(u[0], u[1], u[2]);
+        let w = DVec3::new(u[3], u[4], u[5]) / l;
         let travel = v.length() + w.length() * drug.extent;
         if travel < opts.tolerance.max(1e-9) {
             break;
@@ -217,4 +211,80 @@ fn slide(
     out.t = t_first;
     out.start_colliding = start_colliding;
     out
+}
+
+fn dot6(a: &[f64; 6], b: &[f64; 6]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Euclidean projection of `x` onto the cone `{u : row·u ≥ 0 for every row}`
+/// by Dykstra's alternating projections (plain cyclic projection would find a
+/// feasible point but not the nearest one, and could push the drug backwards).
+/// The result `p` satisfies `p·x = |p|² ≥ 0`: sliding never opposes the push.
+fn project_onto_cone(x: [f64; 6], rows: &[[f64; 6]]) -> [f64; 6] {
+    let mut u = x;
+    let mut corr = vec![[0.0f64; 6]; rows.len()];
+    for _ in 0..200 {
+        let mut change = 0.0f64;
+        for (row, c) in rows.iter().zip(corr.iter_mut()) {
+            let nn = dot6(row, row);
+            if nn == 0.0 {
+                continue;
+            }
+            let y: [f64; 6] = std::array::from_fn(|k| u[k] + c[k]);
+            let j = dot6(row, &y);
+            let next: [f64; 6] = if j < 0.0 {
+                std::array::from_fn(|k| y[k] - row[k] * (j / nn))
+            } else {
+                y
+            };
+            for k in 0..6 {
+                c[k] = y[k] - next[k];
+                change = change.max((next[k] - u[k]).abs());
+            }
+            u = next;
+        }
+        if change < 1e-12 {
+            break;
+        }
+    }
+    // Dykstra converges from outside: clip the last rounding into the cone.
+    for row in rows {
+        let nn = dot6(row, row);
+        let j = dot6(row, &u);
+        if nn > 0.0 && j < 0.0 {
+            for k in 0..6 {
+                u[k] -= row[k] * (j / nn);
+            }
+        }
+    }
+    u
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cone_projection_is_the_nearest_feasible_motion() {
+        // A V-shaped wedge: normals (∓a, −b, −c); pushing into it leaves only
+        // the motion along the wedge's edge.
+        let (a, b, c) = (0.31f64, 0.11, 0.944);
+        let rows = [[-a, -b, -c, 0.0, 0.0, 0.0], [a, -b, -c, 0.0, 0.0, 0.0]];
+        let x = [0.0, 1.38, 8.65, 0.0, 0.0, 0.0];
+        let p = project_onto_cone(x, &rows);
+        for r in &rows {
+            assert!(dot6(r, &p) >= -1e-9);
+        }
+        // Nearest: p·x = |p|² and x − p is orthogonal to p.
+        assert!((dot6(&p, &x) - dot6(&p, &p)).abs() < 1e-6);
+        assert!(dot6(&p, &x) >= 0.0);
+        assert!(p[0].abs() < 1e-6, "no sideways drift: {p:?}");
+        // A single flat contact keeps the tangential part exactly.
+        let p = project_onto_cone(
+            [3.0, 0.0, -2.0, 0.0, 0.0, 0.0],
+            &[[0.0, 0.0, 1.0, 0.0, 0.0, 0.0]],
+        );
+        assert!((p[0] - 3.0).abs() < 1e-12 && p[2].abs() < 1e-12);
+    }
 }

@@ -37,7 +37,7 @@
 use glam::{DMat3, DQuat, DVec3, Vec3};
 use serde::Serialize;
 
-use super::check::{Pair, any_collision, check, min_gap, pairs_within};
+use super::check::{Pair, check, pairs_within, sort_pairs};
 use super::collider::{Collider, unpack_meta};
 use super::drug::DrugAtoms;
 use crate::motion::{Pose, Screw};
@@ -112,8 +112,6 @@ pub struct TouchResult {
     pub colliding: Vec<Pair>,
     /// Pairs colliding at the start pose.
     pub start_colliding: Vec<Pair>,
-    /// The pair with the smallest gap within 4 Å of contact at `pose`.
-    pub nearest: Option<Pair>,
 }
 
 impl TouchResult {
@@ -122,9 +120,6 @@ impl TouchResult {
         !self.start_colliding.is_empty()
     }
 }
-
-/// How far beyond contact the nearest-pair report looks, in Å.
-pub const NEAREST_WITHIN: f32 = 4.0;
 
 /// Moves the drug from `start` towards `end` (both relative to the receptor)
 /// and stops it at first touch. See the module documentation.
@@ -143,46 +138,44 @@ pub fn move_to_touch(
     } else {
         MIN_TOLERANCE
     };
-    let start_colliding = check(collider, drug, start);
     if !start.is_finite() || !end.is_finite() {
-        return finish(collider, drug, 0.0, *start, start_colliding, tol);
+        return finish(0.0, *start, check(collider, drug, start), |p| {
+            pairs_within(collider, drug, p, tol as f32)
+        });
     }
     let screw = Screw::between(*start, *end);
-    let (t, pose) = match opts.method {
-        Method::Swept => swept(collider, drug, &screw, tol, &start_colliding),
-        Method::Thesis => thesis(collider, drug, &screw, tol),
-    };
-    finish(collider, drug, t, pose, start_colliding, tol)
+    match opts.method {
+        Method::Swept => swept(collider, drug, &screw, tol),
+        Method::Thesis => {
+            let (t, pose) = thesis(collider, drug, &screw, tol);
+            finish(t, pose, check(collider, drug, start), |p| {
+                pairs_within(collider, drug, p, tol as f32)
+            })
+        }
+    }
 }
 
 fn finish(
-    collider: &Collider,
-    drug: &DrugAtoms,
     t: f64,
     pose: Pose,
     start_colliding: Vec<Pair>,
-    tol: f64,
+    contacts_at: impl FnOnce(&Pose) -> Vec<Pair>,
 ) -> TouchResult {
-    let contacts = pairs_within(collider, drug, &pose, tol as f32);
+    let contacts = contacts_at(&pose);
     let colliding = contacts.iter().copied().filter(Pair::collides).collect();
-    let nearest = min_gap(collider, drug, &pose, NEAREST_WITHIN);
     TouchResult {
         t,
         pose,
         contacts,
         colliding,
         start_colliding,
-        nearest,
     }
 }
 
-/// True when `pose` adds a collision that the start did not have, or deepens
-/// one it had.
-fn violates(collider: &Collider, drug: &DrugAtoms, pose: &Pose, start_colliding: &[Pair]) -> bool {
-    if start_colliding.is_empty() {
-        return any_collision(collider, drug, pose);
-    }
-    check(collider, drug, pose).iter().any(|p| {
+/// True when `colliding` (the pairs colliding at some pose) holds a pair the
+/// start did not have, or one it had, deeper.
+fn violates(colliding: &[Pair], start_colliding: &[Pair]) -> bool {
+    colliding.iter().any(|p| {
         match start_colliding.binary_search_by_key(&(p.receptor, p.drug), |s| (s.receptor, s.drug))
         {
             // Allowed to stay, not to get closer (f32 rounding slack).
@@ -190,6 +183,41 @@ fn violates(collider: &Collider, drug: &DrugAtoms, pose: &Pose, start_colliding:
             Err(_) => true,
         }
     })
+}
+
+/// A receptor atom that may touch drug atom `drug` during one interval.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    drug: u32,
+    receptor: u32,
+    q: Vec3,
+    contact: f32,
+}
+
+/// Drug atom positions at `pose`, rounded to f32 exactly as the static check does.
+fn placed_at(drug: &DrugAtoms, pose: &Pose, out: &mut Vec<Vec3>) {
+    out.clear();
+    out.extend(drug.placed(pose));
+}
+
+/// The candidates with `d ≤ c + extra` at the placed positions `xs`, sorted:
+/// the static rule applied to a candidate list.
+fn pairs_among(cands: &[Candidate], xs: &[Vec3], extra: f32) -> Vec<Pair> {
+    let mut out: Vec<Pair> = cands
+        .iter()
+        .filter_map(|k| {
+            let lim = k.contact + extra;
+            let d2 = (k.q - xs[k.drug as usize]).length_squared();
+            (lim >= 0.0 && d2 <= lim * lim).then(|| Pair {
+                receptor: k.receptor,
+                drug: k.drug,
+                distance: d2.sqrt(),
+                contact: k.contact,
+            })
+        })
+        .collect();
+    sort_pairs(&mut out);
+    out
 }
 
 /// Smallest positive root of `f + b·τ + a·τ²` (with `f ≥ 0`), or infinity.
@@ -230,13 +258,24 @@ struct Mover<'a> {
 
 impl Mover<'_> {
     /// First time in `[t0, limit)` at which the pair (drug atom at offset `y`
-    /// with speed `s`, receptor atom at `q`, contact distance `c`) is within
-    /// tolerance of contact and approaching; `None` when it is not before `limit`.
-    fn first_touch(&self, y: DVec3, s: f64, q: DVec3, c: f64, t0: f64, limit: f64) -> Option<f64> {
+    /// with speed `s`, at `x0` at `t0`; receptor atom at `q`; contact distance
+    /// `c`) is within tolerance of contact and approaching; `None` when it is
+    /// not before `limit`.
+    #[allow(clippy::too_many_arguments)] // one pair's state; a struct would only rename it
+    fn first_touch(
+        &self,
+        y: DVec3,
+        s: f64,
+        q: DVec3,
+        c: f64,
+        t0: f64,
+        x0: DVec3,
+        limit: f64,
+    ) -> Option<f64> {
         let sc = self.screw;
         let at = |t: f64| sc.rotation_at(t) * y + sc.centre_at(t);
         let mut t = t0;
-        let mut x = at(t);
+        let mut x = x0;
         let mut dist = (x - q).length();
         // The target distance: contact plus a margin, but never above the
         // current distance; a pair already at or inside contact may not get closer.
@@ -276,20 +315,23 @@ impl Mover<'_> {
     }
 }
 
-/// The swept method: returns the stop time and pose.
-fn swept(
-    collider: &Collider,
-    drug: &DrugAtoms,
-    screw: &Screw,
-    tol: f64,
-    start_colliding: &[Pair],
-) -> (f64, Pose) {
+/// The swept method. Every static question it answers (the start's
+/// collisions, the final contacts, the final check) comes from the candidate
+/// pairs it gathered anyway: every pair within reach at the start is a
+/// candidate of the first interval, every pair within reach at the end one of
+/// the last.
+fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> TouchResult {
     let start = *screw.start();
     let ys = drug.rotated(&start);
     let speeds: Vec<f64> = ys.iter().map(|y| screw.speed(*y)).collect();
     let s_max = speeds.iter().copied().fold(0.0, f64::max);
+    let tol32 = tol as f32;
+    let mut xs = Vec::with_capacity(drug.len());
     if s_max.is_nan() || s_max <= 0.0 || collider.is_empty() || drug.is_empty() {
-        return (1.0, *screw.end());
+        let colliding = check(collider, drug, &start);
+        return finish(1.0, *screw.end(), colliding, |p| {
+            pairs_within(collider, drug, p, tol32)
+        });
     }
     let mover = Mover {
         screw,
@@ -306,13 +348,18 @@ fn swept(
         bhi.as_dvec3() + DVec3::splat(margin),
     );
 
+    let mut cands: Vec<Candidate> = Vec::with_capacity(256);
+    let mut start_colliding: Vec<Pair> = Vec::new();
     let mut t_hit = 1.0f64;
     let mut ta = 0.0f64;
+    let mut last_ta = 0.0f64;
     while ta < t_hit {
         let tb = (ta + dt).min(1.0);
         let half = 0.5 * (tb - ta);
         let tm = ta + half;
         let cm = screw.centre_at(tm);
+        cands.clear();
+        last_ta = ta;
         // Coarse cull: the whole drug over this interval against the receptor's box.
         let r_all = drug.extent + centre_speed * half;
         let outside = (cm + DVec3::splat(r_all)).cmplt(blo).any()
@@ -320,27 +367,48 @@ fn swept(
         if !outside {
             let rot_m = DMat3::from_quat(screw.rotation_at(tm));
             for (i, y) in ys.iter().enumerate() {
-                let s = speeds[i];
                 let xm = rot_m * *y + cm;
-                let sweep = s * half;
+                let sweep = speeds[i] * half;
                 let xm32 = xm.as_vec3();
                 let r = Vec3::splat((f64::from(drug.reach[i]) + sweep + tol) as f32);
                 collider.visit(xm32 - r, xm32 + r, |a, meta| {
-                    let (_, polar) = unpack_meta(meta);
-                    let c = f64::from(drug.contact(i, a.w, polar));
-                    let q = a.truncate().as_dvec3();
-                    // Quick reject: out of reach over the whole interval.
-                    let reach = c + sweep + tol;
-                    if (q - xm).length_squared() > reach * reach {
-                        return;
-                    }
-                    let limit = t_hit.min(tb);
-                    if let Some(th) = mover.first_touch(*y, s, q, c, ta, limit)
-                        && th < t_hit
-                    {
-                        t_hit = th;
+                    let (j, polar) = unpack_meta(meta);
+                    let contact = drug.contact(i, a.w, polar);
+                    let q = a.truncate();
+                    // Out of reach over the whole interval: not a candidate.
+                    let reach = f64::from(contact) + sweep + tol;
+                    if (q.as_dvec3() - xm).length_squared() <= reach * reach {
+                        cands.push(Candidate {
+                            drug: i as u32,
+                            receptor: j,
+                            q,
+                            contact,
+                        });
                     }
                 });
+            }
+            if ta == 0.0 {
+                placed_at(drug, &start, &mut xs);
+                start_colliding = pairs_among(&cands, &xs, 0.0);
+            }
+            let rot_a = screw.rotation_at(ta);
+            let cen_a = screw.centre_at(ta);
+            for k in &cands {
+                let i = k.drug as usize;
+                let limit = t_hit.min(tb);
+                let x0 = rot_a * ys[i] + cen_a;
+                if let Some(th) = mover.first_touch(
+                    ys[i],
+                    speeds[i],
+                    k.q.as_dvec3(),
+                    f64::from(k.contact),
+                    ta,
+                    x0,
+                    limit,
+                ) && th < t_hit
+                {
+                    t_hit = th;
+                }
             }
         }
         if t_hit <= tb {
@@ -349,18 +417,36 @@ fn swept(
         ta = tb;
     }
 
-    // Confirm with the static rule; back off if f32 rounding disagrees.
+    // Confirm with the static rule; back off if f32 rounding disagrees. Pairs
+    // near the final pose are all among the last interval's candidates.
     let mut t = t_hit;
     let mut pose = screw.pose_at(t);
     let mut back = tol / s_max;
     let mut tries = 0;
-    while t > 0.0 && violates(collider, drug, &pose, start_colliding) {
+    loop {
+        let colliding = if t >= last_ta {
+            placed_at(drug, &pose, &mut xs);
+            pairs_among(&cands, &xs, 0.0)
+        } else {
+            check(collider, drug, &pose)
+        };
+        if t <= 0.0 || !violates(&colliding, &start_colliding) {
+            break;
+        }
         tries += 1;
         t = if tries > 40 { 0.0 } else { (t - back).max(0.0) };
         back *= 2.0;
         pose = screw.pose_at(t);
     }
-    (t, pose)
+    if t >= last_ta {
+        placed_at(drug, &pose, &mut xs);
+        let contacts = pairs_among(&cands, &xs, tol32);
+        finish(t, pose, start_colliding, |_| contacts)
+    } else {
+        finish(t, pose, start_colliding, |p| {
+            pairs_within(collider, drug, p, tol32)
+        })
+    }
 }
 
 /// The thesis's method: pairs colliding at the end pose, bisection on them.
