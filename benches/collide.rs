@@ -70,6 +70,74 @@ fn fibonacci(n: usize) -> Vec<DVec3> {
         .collect()
 }
 
+/// Up to `n` move-to-touch queries: from collision-free starts (under
+/// `rule`) 3, 2, 1.5 or 1 Å out of the crystal pose, a 1 Å step back towards it.
+fn approach_queries(
+    receptor: &Molecule,
+    drug: &Molecule,
+    rule: &ContactRule,
+    crystal: Pose,
+    n: usize,
+) -> Vec<(Pose, Pose)> {
+    let col = Collider::build(receptor, rule, ColliderKind::Grid);
+    let atoms = DrugAtoms::new(drug, rule, col.max_radius());
+    let mut out = Vec::new();
+    for dist in [3.0, 2.0, 1.5, 1.0] {
+        for d in fibonacci(400) {
+            let start = crystal.moved(d * dist, DVec3::ZERO, 0.0);
+            if out.len() < n && check(&col, &atoms, &start).is_empty() {
+                out.push((start, start.moved(-d, DVec3::ZERO, 0.0)));
+            }
+        }
+    }
+    out
+}
+
+/// Prints how parry3d's cast agrees with the swept method on the same
+/// queries under the same (parry-equivalent) rule.
+fn report_parry_agreement(
+    label: &str,
+    receptor: &Molecule,
+    drug: &Molecule,
+    rule: &ContactRule,
+    queries: &[(Pose, Pose)],
+    rec: &Compound,
+    dr: &Compound,
+) {
+    let col = Collider::build(receptor, rule, ColliderKind::Grid);
+    let atoms = DrugAtoms::new(drug, rule, col.max_radius());
+    let (mut agree, mut worst, mut zero) = (0, 0.0f64, 0);
+    for (s, e) in queries {
+        let ours = move_to_touch(&col, &atoms, s, e, &TouchOptions::default()).t;
+        let d = e.translation - s.translation;
+        let hit = query::cast_shapes(
+            &PPose::IDENTITY,
+            Vector::ZERO,
+            rec,
+            &ppose(s),
+            d.as_vec3(),
+            dr,
+            ShapeCastOptions::with_max_time_of_impact(1.0),
+        );
+        let theirs = match hit {
+            Ok(Some(h)) => f64::from(h.time_of_impact),
+            _ => 1.0,
+        };
+        if theirs == 0.0 {
+            zero += 1;
+        }
+        let err = (ours - theirs).abs() * d.length();
+        worst = worst.max(err);
+        if err < 1e-2 {
+            agree += 1;
+        }
+    }
+    eprintln!(
+        "{label}: parry3d agrees with swept (|Δt|·step < 0.01 Å) on {agree}/{} queries, worst {worst:.2e} Å, {zero} at t = 0",
+        queries.len()
+    );
+}
+
 fn dhfr(c: &mut Criterion) {
     let Some(dir) = data_dir() else { return };
     let Ok(loaded) = model::load(&dir.join("6xg5_tmp_prepared.pdb"), &LoadOptions::default())
@@ -84,11 +152,15 @@ fn dhfr(c: &mut Criterion) {
         return;
     };
     let rule = ContactRule::default();
+    // parry's balls of radius r − 0.3 are this rule exactly (no H-bond allowance).
+    let parry_rule = ContactRule::new(rule.overlap, 0.0).unwrap_or(rule);
     let crystal = Pose::from_translation(drug.centre - receptor.centre);
-    let queries: Vec<(Pose, Pose)> = fibonacci(16)
-        .into_iter()
-        .map(|d| (crystal, crystal.moved(d, DVec3::ZERO, 0.0)))
-        .collect();
+    let queries = approach_queries(&receptor, &drug, &parry_rule, crystal, 16);
+    if queries.is_empty() {
+        eprintln!("SKIP: no collision-free start near the TMP crystal pose");
+        return;
+    }
+    eprintln!("dhfr_tmp: {} approach queries", queries.len());
     let mut g = c.benchmark_group("dhfr_tmp");
     g.sample_size(30)
         .warm_up_time(Duration::from_millis(500))
@@ -120,6 +192,31 @@ fn dhfr(c: &mut Criterion) {
     }
     let rec = compound(&receptor, &rule);
     let dr = compound(&drug, &rule);
+    report_parry_agreement(
+        "dhfr_tmp",
+        &receptor,
+        &drug,
+        &parry_rule,
+        &queries,
+        &rec,
+        &dr,
+    );
+    for kind in [ColliderKind::Grid, ColliderKind::Hashed] {
+        let col = Collider::build(&receptor, &parry_rule, kind);
+        let atoms = DrugAtoms::new(&drug, &parry_rule, col.max_radius());
+        let opts = TouchOptions::default();
+        let mut k = 0;
+        g.bench_function(
+            BenchmarkId::new("touch_1A", format!("swept-{}-parry-rule", kind.name())),
+            |b| {
+                b.iter(|| {
+                    let (s, e) = &queries[k % queries.len()];
+                    k += 1;
+                    black_box(move_to_touch(&col, &atoms, s, e, &opts))
+                })
+            },
+        );
+    }
     g.bench_function(BenchmarkId::new("check", "parry3d"), |b| {
         b.iter(|| {
             black_box(query::intersection_test(
@@ -200,7 +297,9 @@ fn scaling(c: &mut Criterion) {
             continue;
         };
         let n = receptor.len();
-        let (drug, start, out) = surface_drug(&receptor, &rule);
+        // Free under the stricter (parry-equivalent) rule, so both models start free.
+        let strict = ContactRule::new(rule.overlap, 0.0).unwrap_or(rule);
+        let (drug, start, out) = surface_drug(&receptor, &strict);
         let end = start.moved(-out * 1.5, DVec3::ZERO, 0.0);
         let label = format!("{n}");
         for kind in ColliderKind::ALL {
@@ -222,6 +321,22 @@ fn scaling(c: &mut Criterion) {
         }
         let rec = compound(&receptor, &rule);
         let dr = compound(&drug, &rule);
+        let parry_rule = ContactRule::new(rule.overlap, 0.0).unwrap_or(rule);
+        report_parry_agreement(
+            &format!("scaling {label}"),
+            &receptor,
+            &drug,
+            &parry_rule,
+            &[(start, end)],
+            &rec,
+            &dr,
+        );
+        let col = Collider::build(&receptor, &parry_rule, ColliderKind::Grid);
+        let atoms = DrugAtoms::new(&drug, &parry_rule, col.max_radius());
+        let opts = TouchOptions::default();
+        g.bench_function(BenchmarkId::new("touch-grid-parry-rule", &label), |b| {
+            b.iter(|| black_box(move_to_touch(&col, &atoms, &start, black_box(&end), &opts)))
+        });
         g.bench_function(BenchmarkId::new("touch-parry3d", &label), |b| {
             b.iter(|| {
                 black_box(query::cast_shapes(

@@ -73,7 +73,10 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     }
     outln!(
         "receptor {} ({} atoms), drug {} ({} atoms)",
-        report.receptor.name, report.receptor.atoms, report.drug.name, report.drug.atoms
+        report.receptor.name,
+        report.receptor.atoms,
+        report.drug.name,
+        report.drug.atoms
     );
     outln!(
         "rule: overlap >= {} Å (+{} Å for N/O pairs), {} radii, hydrogens {}; collider {}",

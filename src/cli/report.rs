@@ -82,7 +82,17 @@ pub fn print_pairs(reports: &[PairReport]) {
     }
     outln!(
         "  {:>7} {:<4} {:<4} {:>5} {:<2} | {:>6} {:<4} {:<4} | {:>7} {:>7} {:>7}",
-        "serial", "name", "res", "seq", "ch", "serial", "name", "res", "dist", "overlap", "gap"
+        "serial",
+        "name",
+        "res",
+        "seq",
+        "ch",
+        "serial",
+        "name",
+        "res",
+        "dist",
+        "overlap",
+        "gap"
     );
     for r in reports {
         outln!(

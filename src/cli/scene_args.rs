@@ -158,6 +158,9 @@ impl SceneArgs {
     /// Loads the molecules (printing loader warnings to stderr) and builds the scene.
     pub fn load(&self) -> anyhow::Result<LoadedScene> {
         let rule = self.rule()?;
+        if self.record.is_some() && self.drug.is_none() {
+            bail!("--record picks a record of an SDF drug file; no drug file was given");
+        }
         let (receptor, drug, drug_source) = if self.receptor == "builtin" {
             if self.drug.is_some() || self.ligand.is_some() {
                 bail!("the built-in scene takes no drug file and no --ligand");

@@ -84,7 +84,13 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<()> {
     );
     outln!(
         "{:<28} {:>7} {:>6} | {:>14} {:>14} | {:>14} {:>14}",
-        "file", "atoms", "cell Å", "hashed overlap", "grid overlap", "hashed centre", "grid centre"
+        "file",
+        "atoms",
+        "cell Å",
+        "hashed overlap",
+        "grid overlap",
+        "hashed centre",
+        "grid centre"
     );
     for r in &rows {
         let name = std::path::Path::new(&r.file)

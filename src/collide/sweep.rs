@@ -370,14 +370,17 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
                 let xm = rot_m * *y + cm;
                 let sweep = speeds[i] * half;
                 let xm32 = xm.as_vec3();
-                let r = Vec3::splat((f64::from(drug.reach[i]) + sweep + tol) as f32);
+                // f32 slack well above the rounding of receptor-frame
+                // coordinates, so the f32 test below keeps a superset.
+                let slack = (sweep + tol) as f32 + 1e-3;
+                let r = Vec3::splat(drug.reach[i] + slack);
                 collider.visit(xm32 - r, xm32 + r, |a, meta| {
                     let (j, polar) = unpack_meta(meta);
                     let contact = drug.contact(i, a.w, polar);
                     let q = a.truncate();
                     // Out of reach over the whole interval: not a candidate.
-                    let reach = f64::from(contact) + sweep + tol;
-                    if (q.as_dvec3() - xm).length_squared() <= reach * reach {
+                    let reach = contact + slack;
+                    if (q - xm32).length_squared() <= reach * reach {
                         cands.push(Candidate {
                             drug: i as u32,
                             receptor: j,
