@@ -165,11 +165,22 @@ fn dhfr(c: &mut Criterion) {
     g.sample_size(30)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));
-    for kind in ColliderKind::ALL {
-        let col = Collider::build(&receptor, &rule, kind);
+    let variants: Vec<(String, Collider)> = ColliderKind::ALL
+        .iter()
+        .flat_map(|&kind| {
+            let col = Collider::build(&receptor, &rule, kind);
+            let mut v = vec![(kind.name().to_string(), col.clone())];
+            if kind != ColliderKind::Brute {
+                v.push((format!("{}-nomap", kind.name()), col.without_clearance()));
+            }
+            v
+        })
+        .collect();
+    for (name, col) in &variants {
+        let kind = col.kind();
         let atoms = DrugAtoms::new(&drug, &rule, col.max_radius());
-        g.bench_function(BenchmarkId::new("check", kind.name()), |b| {
-            b.iter(|| black_box(check(&col, &atoms, black_box(&crystal))))
+        g.bench_function(BenchmarkId::new("check", name), |b| {
+            b.iter(|| black_box(check(col, &atoms, black_box(&crystal))))
         });
         for method in [Method::Swept, Method::Thesis] {
             if method == Method::Thesis && kind != ColliderKind::Hashed {
@@ -179,13 +190,13 @@ fn dhfr(c: &mut Criterion) {
                 tolerance: 1e-3,
                 method,
             };
-            let name = format!("{}-{}", method.name(), kind.name());
+            let label = format!("{}-{name}", method.name());
             let mut k = 0;
-            g.bench_function(BenchmarkId::new("touch_1A", name), |b| {
+            g.bench_function(BenchmarkId::new("touch_1A", label), |b| {
                 b.iter(|| {
                     let (s, e) = &queries[k % queries.len()];
                     k += 1;
-                    black_box(move_to_touch(&col, &atoms, s, e, &opts))
+                    black_box(move_to_touch(col, &atoms, s, e, &opts))
                 })
             });
         }

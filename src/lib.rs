@@ -10,6 +10,29 @@
 //! - [`collide`]: the contact rule, colliders, static checks, move-to-touch,
 //!   collision responses and grid statistics.
 //! - [`scene`]: a receptor and a drug with a collider, the unit the commands use.
+//!
+//! ```
+//! use bump::collide::{ColliderKind, ContactRule, TouchOptions};
+//! use bump::model::{RadiiSet, builtin};
+//! use bump::scene::Scene;
+//! use glam::DVec3;
+//!
+//! // The thesis's user-study objects: a triple ring and an E.
+//! let (rings, e) = builtin::scene(RadiiSet::Bondi);
+//! let scene = Scene::new(rings, e, ContactRule::default(), ColliderKind::Hashed);
+//! let start = scene.file_relative(DVec3::ZERO);
+//! assert!(scene.check(&start).is_empty());
+//!
+//! // Pushed straight in, the E threads the rings: the whole motion is allowed.
+//! let docked = scene.file_relative(builtin::docked_offset());
+//! let r = scene.move_to_touch(&start, &docked, &TouchOptions::default());
+//! assert_eq!(r.t, 1.0);
+//!
+//! // Pushed in 5 Å too high, it stops just touching the rings.
+//! let high = scene.file_relative(DVec3::new(0.0, 5.0, 0.0));
+//! let r = scene.move_to_touch(&high, &high.moved(DVec3::Z * 25.0, DVec3::Z, 0.0), &TouchOptions::default());
+//! assert!(r.t < 1.0 && !r.contacts.is_empty() && r.colliding.is_empty());
+//! ```
 
 pub mod collide;
 pub mod model;

@@ -57,17 +57,25 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
     extra: f32,
     mut f: F,
 ) {
+    let map = collider.clearance();
     for (i, x) in drug.placed(rel).enumerate() {
-        let r = Vec3::splat(drug.reach[i] + extra.max(0.0));
+        if let Some(m) = map
+            && m.clearance(x) > drug.own[i] + extra.max(0.0)
+        {
+            continue; // too far from every receptor atom
+        }
+        let far = drug.reach[i] + extra.max(0.0);
+        let far2 = far * far;
+        let r = Vec3::splat(far);
         let mut go_on = true;
         collider.visit(x - r, x + r, |a, meta| {
-            if !go_on {
+            let d2 = (a.truncate() - x).length_squared();
+            if !go_on || d2 > far2 {
                 return;
             }
             let (j, polar) = unpack_meta(meta);
             let c = drug.contact(i, a.w, polar);
             let lim = c + extra;
-            let d2 = (a.truncate() - x).length_squared();
             if lim >= 0.0 && d2 <= lim * lim {
                 go_on = f(Pair {
                     receptor: j,

@@ -18,10 +18,13 @@
 //!
 //! The cell edge is the largest contact distance a receptor atom can have with
 //! a drug atom as large as itself, so a static query touches at most 27 cells.
+//! The grid and hashed colliders also carry a [`ClearanceMap`], which lets a
+//! query skip drug atoms that are too far from the receptor to touch it.
 
 use glam::{Vec3, Vec4};
 use serde::Serialize;
 
+use super::clearance::ClearanceMap;
 use super::rule::ContactRule;
 use crate::model::Molecule;
 
@@ -78,6 +81,8 @@ pub struct Collider {
     /// Integer cell of each stored atom (hashed index only; empty otherwise),
     /// so a bucket scan keeps just the atoms of the cell asked for.
     cells: Vec<[i32; 3]>,
+    /// Lower bounds on the distance to the receptor (grid and hashed only).
+    clearance: Option<ClearanceMap>,
     index: Index,
     cell: f32,
     max_radius: f32,
@@ -103,10 +108,13 @@ enum Index {
     },
 }
 
-/// Integer cell coordinate of `x` (saturating for absurd values).
+/// Integer cell coordinate of `x` (saturating for absurd values, 0 for NaN).
 #[inline]
 fn cell_of(x: f32, origin: f32, inv_cell: f32) -> i32 {
-    ((x - origin) * inv_cell).floor() as i32
+    // floor without the library call that f32::floor is on baseline x86-64.
+    let v = (x - origin) * inv_cell;
+    let i = v as i32;
+    if (i as f32) > v { i - 1 } else { i }
 }
 
 /// The thesis's style of spatial hash (Teschner et al. primes).
@@ -254,18 +262,40 @@ impl Collider {
                 .collect(),
             _ => Vec::new(),
         };
+        // Brute force stays the plain reference; the grids skip far atoms.
+        let clearance = match kind {
+            ColliderKind::Brute => None,
+            _ => {
+                let radii: Vec<f32> = receptor.atoms.iter().map(|a| a.radius).collect();
+                ClearanceMap::build(&receptor.local, &radii)
+            }
+        };
         Self {
             kind,
             atoms,
             meta,
             slot,
             cells,
+            clearance,
             index,
             cell,
             max_radius,
             lo,
             hi,
         }
+    }
+
+    /// The same collider without its clearance map (to measure what the map
+    /// saves; answers are identical).
+    pub fn without_clearance(mut self) -> Self {
+        self.clearance = None;
+        self
+    }
+
+    /// The clearance map, when this collider has one.
+    #[inline]
+    pub fn clearance(&self) -> Option<&ClearanceMap> {
+        self.clearance.as_ref()
     }
 
     /// Which index this is.
@@ -341,8 +371,8 @@ impl Collider {
                         let row = ((z * dims[1] + y) * dims[0]) as usize;
                         let a = start[row + x0 as usize] as usize;
                         let b = start[row + x1 as usize + 1] as usize;
-                        for k in a..b {
-                            f(self.atoms[k], self.meta[k]);
+                        for (atom, m) in self.atoms[a..b].iter().zip(&self.meta[a..b]) {
+                            f(*atom, *m);
                         }
                     }
                 }
@@ -378,9 +408,14 @@ impl Collider {
                     for y in y0..=y1 {
                         for x in x0..=x1 {
                             let b = hash_cell(x, y, z, *mask) as usize;
-                            for k in start[b] as usize..start[b + 1] as usize {
-                                if self.cells[k] == [x, y, z] {
-                                    f(self.atoms[k], self.meta[k]);
+                            let (a, e) = (start[b] as usize, start[b + 1] as usize);
+                            for ((atom, m), c) in self.atoms[a..e]
+                                .iter()
+                                .zip(&self.meta[a..e])
+                                .zip(&self.cells[a..e])
+                            {
+                                if *c == [x, y, z] {
+                                    f(*atom, *m);
                                 }
                             }
                         }
@@ -395,4 +430,18 @@ impl Collider {
 #[inline]
 pub fn unpack_meta(meta: u32) -> (u32, bool) {
     (meta >> 1, meta & 1 == 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cell_of_is_floor() {
+        for v in [-3.5f32, -3.0, -0.2, 0.0, 0.2, 2.999, 3.0, 1e9, -1e9] {
+            assert_eq!(cell_of(v, 0.0, 1.0), v.floor() as i32, "{v}");
+        }
+        assert_eq!(cell_of(f32::NAN, 0.0, 1.0), 0);
+        assert_eq!(cell_of(1e30, 0.0, 1.0), i32::MAX);
+    }
 }

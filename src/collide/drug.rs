@@ -22,6 +22,9 @@ pub struct DrugAtoms {
     c_polar: Vec<f32>,
     /// Largest contact distance atom `i` can have with any receptor atom.
     pub reach: Vec<f32>,
+    /// `reach` without the receptor radius: `r_i − smallest allowance`. A pair
+    /// can only collide when `d − r_j` is at most this.
+    pub own: Vec<f32>,
     /// Largest `reach`.
     pub max_reach: f32,
     /// Distance from the centre to the farthest atom centre.
@@ -46,11 +49,12 @@ impl DrugAtoms {
                 }
             })
             .collect();
-        let reach: Vec<f32> = c_plain
+        let own: Vec<f32> = c_plain
             .iter()
             .zip(&c_polar)
-            .map(|(a, b)| a.max(*b) + receptor_max_radius)
+            .map(|(a, b)| a.max(*b))
             .collect();
+        let reach: Vec<f32> = own.iter().map(|o| o + receptor_max_radius).collect();
         let max_reach = reach.iter().copied().fold(0.0, f32::max);
         let extent = drug
             .local
@@ -64,6 +68,7 @@ impl DrugAtoms {
             c_plain,
             c_polar,
             reach,
+            own,
             max_reach,
             extent,
         }

@@ -287,6 +287,11 @@ impl Mover<'_> {
         let acc = self.angle * s; // bound on |x''| (centripetal θ²ρ ≤ θ·s)
         for _ in 0..MAX_PAIR_ITERATIONS {
             let gap = dist - target;
+            let window = limit - t;
+            // First-order bound: too far to come within tolerance before `limit`.
+            if gap - s * window > self.half_tol {
+                return None;
+            }
             let rel = x - q;
             let fp = 2.0 * rel.dot(sc.velocity_at(x));
             let approaching = fp < -1e-12 * s * dist.max(1.0);
@@ -294,7 +299,6 @@ impl Mover<'_> {
                 return Some(t);
             }
             let f = (dist - target) * (dist + target);
-            let window = limit - t;
             let a = s * s - (dist + s * window) * acc;
             let tau1 = gap.max(0.0) / s;
             let tau2 = first_positive_root(f.max(0.0), fp, a);
@@ -349,6 +353,7 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
     );
 
     let mut cands: Vec<Candidate> = Vec::with_capacity(256);
+    let mut xa: Vec<DVec3> = Vec::with_capacity(ys.len());
     let mut start_colliding: Vec<Pair> = Vec::new();
     let mut t_hit = 1.0f64;
     let mut ta = 0.0f64;
@@ -366,21 +371,33 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
             || (cm - DVec3::splat(r_all)).cmpgt(bhi).any();
         if !outside {
             let rot_m = DMat3::from_quat(screw.rotation_at(tm));
+            let map = collider.clearance();
             for (i, y) in ys.iter().enumerate() {
                 let xm = rot_m * *y + cm;
                 let sweep = speeds[i] * half;
                 let xm32 = xm.as_vec3();
                 // f32 slack well above the rounding of receptor-frame
-                // coordinates, so the f32 test below keeps a superset.
+                // coordinates, so the f32 tests below keep a superset.
                 let slack = (sweep + tol) as f32 + 1e-3;
-                let r = Vec3::splat(drug.reach[i] + slack);
+                if let Some(m) = map
+                    && m.clearance(xm32) > drug.own[i] + slack
+                {
+                    continue; // cannot reach the receptor in this interval
+                }
+                let far = drug.reach[i] + slack;
+                let far2 = far * far;
+                let r = Vec3::splat(far);
                 collider.visit(xm32 - r, xm32 + r, |a, meta| {
+                    let q = a.truncate();
+                    let d2 = (q - xm32).length_squared();
+                    if d2 > far2 {
+                        return; // beyond the largest reach of this drug atom
+                    }
                     let (j, polar) = unpack_meta(meta);
                     let contact = drug.contact(i, a.w, polar);
-                    let q = a.truncate();
                     // Out of reach over the whole interval: not a candidate.
                     let reach = contact + slack;
-                    if (q - xm32).length_squared() <= reach * reach {
+                    if d2 <= reach * reach {
                         cands.push(Candidate {
                             drug: i as u32,
                             receptor: j,
@@ -394,12 +411,14 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
                 placed_at(drug, &start, &mut xs);
                 start_colliding = pairs_among(&cands, &xs, 0.0);
             }
-            let rot_a = screw.rotation_at(ta);
+            let rot_a = DMat3::from_quat(screw.rotation_at(ta));
             let cen_a = screw.centre_at(ta);
+            xa.clear();
+            xa.extend(ys.iter().map(|y| rot_a * *y + cen_a));
             for k in &cands {
                 let i = k.drug as usize;
                 let limit = t_hit.min(tb);
-                let x0 = rot_a * ys[i] + cen_a;
+                let x0 = xa[i];
                 if let Some(th) = mover.first_touch(
                     ys[i],
                     speeds[i],
