@@ -167,13 +167,11 @@ fn dhfr(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(2));
     let variants: Vec<(String, Collider)> = ColliderKind::ALL
         .iter()
-        .flat_map(|&kind| {
-            let col = Collider::build(&receptor, &rule, kind);
-            let mut v = vec![(kind.name().to_string(), col.clone())];
-            if kind != ColliderKind::Brute {
-                v.push((format!("{}-nomap", kind.name()), col.without_clearance()));
-            }
-            v
+        .map(|&kind| {
+            (
+                kind.name().to_string(),
+                Collider::build(&receptor, &rule, kind),
+            )
         })
         .collect();
     for (name, col) in &variants {

@@ -57,13 +57,7 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
     extra: f32,
     mut f: F,
 ) {
-    let map = collider.clearance();
     for (i, x) in drug.placed(rel).enumerate() {
-        if let Some(m) = map
-            && m.clearance(x) > drug.own[i] + extra.max(0.0)
-        {
-            continue; // too far from every receptor atom
-        }
         let far = drug.reach[i] + extra.max(0.0);
         let far2 = far * far;
         let r = Vec3::splat(far);

@@ -18,13 +18,10 @@
 //!
 //! The cell edge is the largest contact distance a receptor atom can have with
 //! a drug atom as large as itself, so a static query touches at most 27 cells.
-//! The grid and hashed colliders also carry a [`ClearanceMap`], which lets a
-//! query skip drug atoms that are too far from the receptor to touch it.
 
 use glam::{Vec3, Vec4};
 use serde::Serialize;
 
-use super::clearance::ClearanceMap;
 use super::rule::ContactRule;
 use crate::model::Molecule;
 
@@ -81,8 +78,6 @@ pub struct Collider {
     /// Integer cell of each stored atom (hashed index only; empty otherwise),
     /// so a bucket scan keeps just the atoms of the cell asked for.
     cells: Vec<[i32; 3]>,
-    /// Lower bounds on the distance to the receptor (grid and hashed only).
-    clearance: Option<ClearanceMap>,
     index: Index,
     cell: f32,
     max_radius: f32,
@@ -262,40 +257,18 @@ impl Collider {
                 .collect(),
             _ => Vec::new(),
         };
-        // Brute force stays the plain reference; the grids skip far atoms.
-        let clearance = match kind {
-            ColliderKind::Brute => None,
-            _ => {
-                let radii: Vec<f32> = receptor.atoms.iter().map(|a| a.radius).collect();
-                ClearanceMap::build(&receptor.local, &radii)
-            }
-        };
         Self {
             kind,
             atoms,
             meta,
             slot,
             cells,
-            clearance,
             index,
             cell,
             max_radius,
             lo,
             hi,
         }
-    }
-
-    /// The same collider without its clearance map (to measure what the map
-    /// saves; answers are identical).
-    pub fn without_clearance(mut self) -> Self {
-        self.clearance = None;
-        self
-    }
-
-    /// The clearance map, when this collider has one.
-    #[inline]
-    pub fn clearance(&self) -> Option<&ClearanceMap> {
-        self.clearance.as_ref()
     }
 
     /// Which index this is.

@@ -22,9 +22,6 @@ pub struct DrugAtoms {
     c_polar: Vec<f32>,
     /// Largest contact distance atom `i` can have with any receptor atom.
     pub reach: Vec<f32>,
-    /// `reach` without the receptor radius: `r_i − smallest allowance`. A pair
-    /// can only collide when `d − r_j` is at most this.
-    pub own: Vec<f32>,
     /// Largest `reach`.
     pub max_reach: f32,
     /// Distance from the centre to the farthest atom centre.
@@ -68,7 +65,6 @@ impl DrugAtoms {
             c_plain,
             c_polar,
             reach,
-            own,
             max_reach,
             extent,
         }

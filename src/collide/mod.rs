@@ -1,14 +1,12 @@
 //! Collision detection between a receptor and a drug made of spheres.
 //!
 //! [`rule`] says when two atoms collide; [`collider`] indexes the receptor
-//! (brute force, full grid or hashed grid) and [`clearance`] bounds how far a
-//! point is from it; [`mod@check`] answers static queries;
+//! (brute force, full grid or hashed grid); [`mod@check`] answers static queries;
 //! [`sweep`] moves the drug to touch without tunnelling; [`response`] turns a
 //! proposed step into the session's answer (stop, touch, slide, pass);
 //! [`stats`] measures grid occupancy (the thesis's Table 1).
 
 pub mod check;
-pub mod clearance;
 pub mod collider;
 pub mod drug;
 pub mod response;

@@ -371,7 +371,6 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
             || (cm - DVec3::splat(r_all)).cmpgt(bhi).any();
         if !outside {
             let rot_m = DMat3::from_quat(screw.rotation_at(tm));
-            let map = collider.clearance();
             for (i, y) in ys.iter().enumerate() {
                 let xm = rot_m * *y + cm;
                 let sweep = speeds[i] * half;
@@ -379,11 +378,6 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
                 // f32 slack well above the rounding of receptor-frame
                 // coordinates, so the f32 tests below keep a superset.
                 let slack = (sweep + tol) as f32 + 1e-3;
-                if let Some(m) = map
-                    && m.clearance(xm32) > drug.own[i] + slack
-                {
-                    continue; // cannot reach the receptor in this interval
-                }
                 let far = drug.reach[i] + slack;
                 let far2 = far * far;
                 let r = Vec3::splat(far);
