@@ -7,7 +7,12 @@
 //!   and parry3d (`intersection_test`, `cast_shapes`).
 //! - `scaling/*`: a 30-atom drug (the receptor's outermost atom and the next
 //!   29, pushed out until free) against receptors from 1.3k to 272k atoms:
-//!   a 1.5 Å move-to-touch back towards the surface.
+//!   the static check at the end pose and a 1.5 Å move-to-touch back towards
+//!   the surface, for each collider, the thesis method and parry3d.
+//!
+//! parry3d models the rule as balls of radius `r − overlap/2`, which is the
+//! rule without the N/O hydrogen-bond allowance; the `*-parry-rule` rows run
+//! bump under that same rule, and the setup prints how often the two agree.
 //!
 //! Data come from `../shared/pdb`; when it is missing the benchmarks say so and
 //! run nothing. Run with `cargo bench --bench collide`.
@@ -327,6 +332,23 @@ fn scaling(c: &mut Criterion) {
                     })
                 },
             );
+            if kind == ColliderKind::Hashed {
+                let thesis = TouchOptions {
+                    method: Method::Thesis,
+                    ..opts
+                };
+                g.bench_function(BenchmarkId::new("touch-thesis-hashed", &label), |b| {
+                    b.iter(|| {
+                        black_box(move_to_touch(
+                            &col,
+                            &atoms,
+                            &start,
+                            black_box(&end),
+                            &thesis,
+                        ))
+                    })
+                });
+            }
         }
         let rec = compound(&receptor, &rule);
         let dr = compound(&drug, &rule);
@@ -345,6 +367,16 @@ fn scaling(c: &mut Criterion) {
         let opts = TouchOptions::default();
         g.bench_function(BenchmarkId::new("touch-grid-parry-rule", &label), |b| {
             b.iter(|| black_box(move_to_touch(&col, &atoms, &start, black_box(&end), &opts)))
+        });
+        g.bench_function(BenchmarkId::new("check-parry3d", &label), |b| {
+            b.iter(|| {
+                black_box(query::intersection_test(
+                    &PPose::IDENTITY,
+                    &rec,
+                    &ppose(black_box(&end)),
+                    &dr,
+                ))
+            })
         });
         g.bench_function(BenchmarkId::new("touch-parry3d", &label), |b| {
             b.iter(|| {

@@ -66,11 +66,24 @@ fn translations_match_the_closed_form() {
     let mut worst_travel: f64 = 0.0;
     let mut worst_gap: f64 = 0.0;
     let mut hits = 0;
+    let (mut thesis_overlaps, mut thesis_passed) = (0, 0);
+    let thesis = TouchOptions {
+        method: Method::Thesis,
+        ..TouchOptions::default()
+    };
     for case in 0..300 {
         let s = setup(&mut rng, 300, 15, case % 2 == 0, ContactRule::default());
         let (start, end) = random_query(&mut rng, &s, false);
         let d = end.translation - start.translation;
         let exact = exact_translation_toi(&s.rule, &s.receptor, &s.drug, &start, d);
+        // The thesis's method on the same query: how often it fails.
+        let rt = move_to_touch(&s.cols[2], &s.atoms, &start, &end, &thesis);
+        if min_gap_f64(&s.rule, &s.receptor, &s.drug, &rt.pose) <= 0.0 {
+            thesis_overlaps += 1;
+        }
+        if exact.is_some_and(|te| rt.t > te) {
+            thesis_passed += 1;
+        }
         for c in &s.cols {
             let r = move_to_touch(c, &s.atoms, &start, &end, &TouchOptions::default());
             let g = min_gap_f64(&s.rule, &s.receptor, &s.drug, &r.pose);
@@ -94,6 +107,9 @@ fn translations_match_the_closed_form() {
     }
     println!(
         "closed form: {hits} hits, worst gap at stop {worst_gap:.2e} Å, worst travel short of exact contact {worst_travel:.2e} Å"
+    );
+    println!(
+        "thesis method on the same 300 queries: {thesis_overlaps} overlapping results, {thesis_passed} past the first contact"
     );
     assert!(hits > 100);
 }
