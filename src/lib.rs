@@ -10,6 +10,8 @@
 //! - [`collide`]: the contact rule, colliders, static checks, move-to-touch,
 //!   collision responses and grid statistics.
 //! - [`scene`]: a receptor and a drug with a collider, the unit the commands use.
+//! - [`session`]: the docking session's state machine (modes, selection,
+//!   collision settings, undo), stepped one frame at a time.
 //!
 //! ```
 //! use bump::collide::{ColliderKind, ContactRule, TouchOptions};
@@ -38,3 +40,4 @@ pub mod collide;
 pub mod model;
 pub mod motion;
 pub mod scene;
+pub mod session;

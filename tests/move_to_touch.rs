@@ -398,3 +398,64 @@ fn a_colliding_start_allows_only_motions_that_do_not_deepen() {
         assert!(p.distance >= b.distance - 1e-4);
     }
 }
+
+#[test]
+fn overlapping_copies_can_be_pulled_apart_but_never_pushed_in() {
+    use bump::model::{RadiiSet, builtin};
+    let rule = ContactRule::default();
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    // The E and rings merged into one receptor whose centre differs from the
+    // E's, so the drug copy's atoms coincide with the receptor's only up to
+    // f32 rounding (~1e-6 Å), in random directions.
+    let mut atoms = rings.atoms.clone();
+    atoms.extend(e.atoms.clone());
+    let mut pos = rings.file_positions();
+    pos.extend(e.file_positions());
+    let env = Molecule::new("env", atoms, &pos);
+    let c = Collider::build(&env, &rule, ColliderKind::Hashed);
+    let d = DrugAtoms::new(&e, &rule, c.max_radius());
+    let start = Pose::from_translation(e.centre - env.centre);
+    let mut rng = Rng(5);
+    for k in 0..20 {
+        // Straight out of the E's plane (±y), with in-plane wobble of rounding
+        // size: the copy separates at once. (Any real in-plane component
+        // would push spine neighbours deeper into each other, and is refused.)
+        let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+        let dir = (DVec3::new(0.0, sign, 0.0) + rng.unit() * 1e-7).normalize();
+        let r = move_to_touch(
+            &c,
+            &d,
+            &start,
+            &start.moved(dir * 30.0, DVec3::Z, 0.0),
+            &TouchOptions::default(),
+        );
+        assert!(r.start_collides());
+        assert!(r.t > 0.9, "stuck leaving along {dir}: t = {}", r.t);
+    }
+    // Pushing along the E's own spine (x) deepens every neighbour overlap: it
+    // must not creep, however many frames it is repeated.
+    let depth = |p: &Pose| {
+        bump::collide::check(&c, &d, p)
+            .iter()
+            .map(|q| q.distance)
+            .fold(f32::INFINITY, f32::min)
+    };
+    let first = depth(&start);
+    let mut pose = start;
+    for _ in 0..2000 {
+        let r = move_to_touch(
+            &c,
+            &d,
+            &pose,
+            &pose.moved(DVec3::new(0.01, 0.0, 0.0), DVec3::Z, 0.0),
+            &TouchOptions::default(),
+        );
+        pose = r.pose;
+    }
+    assert!(
+        (pose.translation - start.translation).length() < 1e-3,
+        "crept {}",
+        (pose.translation - start.translation).length()
+    );
+    assert!(depth(&pose) >= first - 1e-4);
+}

@@ -25,8 +25,10 @@
 //! static (f32) rule, backing off if rounding disagrees.
 //!
 //! A start pose that already collides is reported; its colliding pairs may not
-//! get any closer (their target distance is their start distance), every other
-//! pair obeys the rule as usual.
+//! get any closer (their target distance is their start distance; a dip of
+//! f32 rounding size is tolerated on a step that ends no deeper, so atoms
+//! coincident to 10⁻⁶ Å can be pulled apart), every other pair obeys the rule
+//! as usual.
 //!
 //! # The thesis method ([`Method::Thesis`])
 //! Turk's `pg_move_to_touch`: the colliding pairs at the end pose, then
@@ -45,6 +47,11 @@ use crate::motion::{Pose, Screw};
 /// Smallest tolerance accepted, in Å: below it f32 coordinates cannot tell
 /// touching from colliding.
 pub const MIN_TOLERANCE: f64 = 1e-5;
+
+/// How much a pair that already overlaps may dip, in Å, during a step that
+/// leaves it no deeper at its end: the rounding of f32 coordinates, so that
+/// atoms "coincident" to 10⁻⁶ Å can be pulled apart in any direction.
+const OVERLAP_JITTER: f64 = 1e-5;
 
 /// Iterations of conservative advancement per pair before stopping (safely) short.
 const MAX_PAIR_ITERATIONS: usize = 100;
@@ -179,7 +186,10 @@ fn violates(colliding: &[Pair], start_colliding: &[Pair]) -> bool {
         match start_colliding.binary_search_by_key(&(p.receptor, p.drug), |s| (s.receptor, s.drug))
         {
             // Allowed to stay, not to get closer (f32 rounding slack).
-            Ok(k) => p.distance < start_colliding[k].distance - 1e-5,
+            Ok(k) => {
+                f64::from(p.distance)
+                    < f64::from(start_colliding[k].distance) - 2.0 * OVERLAP_JITTER
+            }
             Err(_) => true,
         }
     })
@@ -258,9 +268,10 @@ struct Mover<'a> {
 
 impl Mover<'_> {
     /// First time in `[t0, limit)` at which the pair (drug atom at offset `y`
-    /// with speed `s`, at `x0` at `t0`; receptor atom at `q`; contact distance
-    /// `c`) is within tolerance of contact and approaching; `None` when it is
-    /// not before `limit`.
+    /// with speed `s`, at `x0` at `t0` and `end_dist` from the receptor atom at
+    /// the end of the motion; receptor atom at `q`; contact distance `c`) is
+    /// within tolerance of contact and approaching; `None` when it is not
+    /// before `limit`.
     #[allow(clippy::too_many_arguments)] // one pair's state; a struct would only rename it
     fn first_touch(
         &self,
@@ -270,6 +281,7 @@ impl Mover<'_> {
         c: f64,
         t0: f64,
         x0: DVec3,
+        end_dist: f64,
         limit: f64,
     ) -> Option<f64> {
         let sc = self.screw;
@@ -278,24 +290,30 @@ impl Mover<'_> {
         let mut x = x0;
         let mut dist = (x - q).length();
         // The target distance: contact plus a margin, but never above the
-        // current distance; a pair already at or inside contact may not get closer.
-        let target = if dist > c {
-            c + self.half_tol.min(0.5 * (dist - c))
+        // current distance; the pair stops the drug within `band` of it. A
+        // pair already at or inside contact may not get closer — except by
+        // f32 rounding on a step that leaves it no deeper at its end, so
+        // overlapping atoms can always be pulled apart but never pushed (or
+        // crept) further in.
+        let (target, band) = if dist > c {
+            (c + self.half_tol.min(0.5 * (dist - c)), self.half_tol)
+        } else if end_dist >= dist {
+            ((dist - OVERLAP_JITTER).max(0.0), 0.0)
         } else {
-            dist
+            (dist, 0.0)
         };
         let acc = self.angle * s; // bound on |x''| (centripetal θ²ρ ≤ θ·s)
         for _ in 0..MAX_PAIR_ITERATIONS {
             let gap = dist - target;
             let window = limit - t;
             // First-order bound: too far to come within tolerance before `limit`.
-            if gap - s * window > self.half_tol {
+            if gap - s * window > band {
                 return None;
             }
             let rel = x - q;
             let fp = 2.0 * rel.dot(sc.velocity_at(x));
             let approaching = fp < -1e-12 * s * dist.max(1.0);
-            if gap <= self.half_tol && approaching {
+            if gap <= band && approaching {
                 return Some(t);
             }
             let f = (dist - target) * (dist + target);
@@ -354,6 +372,12 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
 
     let mut cands: Vec<Candidate> = Vec::with_capacity(256);
     let mut xa: Vec<DVec3> = Vec::with_capacity(ys.len());
+    let end_rot = DMat3::from_quat(screw.end().rotation);
+    let xe: Vec<DVec3> = drug
+        .local
+        .iter()
+        .map(|p| end_rot * p.as_dvec3() + screw.end().translation)
+        .collect();
     let mut start_colliding: Vec<Pair> = Vec::new();
     let mut t_hit = 1.0f64;
     let mut ta = 0.0f64;
@@ -412,14 +436,15 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
             for k in &cands {
                 let i = k.drug as usize;
                 let limit = t_hit.min(tb);
-                let x0 = xa[i];
+                let q = k.q.as_dvec3();
                 if let Some(th) = mover.first_touch(
                     ys[i],
                     speeds[i],
-                    k.q.as_dvec3(),
+                    q,
                     f64::from(k.contact),
                     ta,
-                    x0,
+                    xa[i],
+                    (xe[i] - q).length(),
                     limit,
                 ) && th < t_hit
                 {

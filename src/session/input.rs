@@ -1,0 +1,103 @@
+//! What a frame asks of the session: a 6-DOF motion and discrete commands.
+//!
+//! Devices (keyboard, mouse, joysticks, a recorded log) are translated into a
+//! [`FrameInput`] by the shell; the session never sees a device.
+
+use glam::DVec3;
+
+use crate::collide::Response;
+
+/// A rigid motion request: translation in Å and rotation as axis × angle (rad),
+/// in screen coordinates (x right, y up, z towards the viewer) or in the
+/// moved thing's own axes, as the session's [`super::Space`] says.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Motion6 {
+    /// Translation, Å.
+    pub translate: DVec3,
+    /// Rotation vector: unit axis times angle in radians.
+    pub rotate: DVec3,
+}
+
+impl Motion6 {
+    /// No motion.
+    pub const ZERO: Motion6 = Motion6 {
+        translate: DVec3::ZERO,
+        rotate: DVec3::ZERO,
+    };
+
+    /// True when both parts are exactly zero.
+    pub fn is_zero(&self) -> bool {
+        self.translate == DVec3::ZERO && self.rotate == DVec3::ZERO
+    }
+
+    /// True when every component is finite.
+    pub fn is_finite(&self) -> bool {
+        self.translate.is_finite() && self.rotate.is_finite()
+    }
+
+    /// This motion scaled by `k` (a velocity times a time step).
+    pub fn scaled(&self, k: f64) -> Self {
+        Self {
+            translate: self.translate * k,
+            rotate: self.rotate * k,
+        }
+    }
+
+    /// Component-wise sum.
+    pub fn plus(&self, o: &Motion6) -> Self {
+        Self {
+            translate: self.translate + o.translate,
+            rotate: self.rotate + o.rotate,
+        }
+    }
+}
+
+/// A discrete request (a key, a menu item, a typed command).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Command {
+    /// Space: switch between view and object mode.
+    ToggleMode,
+    /// `j`: select the next molecule.
+    NextMolecule,
+    /// Select molecule `n` (0-based), e.g. after clicking one of its atoms.
+    Select(usize),
+    /// `c`: collision detection on/off.
+    ToggleCollision,
+    /// Use this collision response.
+    SetResponse(Response),
+    /// Cycle stop → touch → slide → pass.
+    CycleResponse,
+    /// Screen-space or object-space motion.
+    ToggleSpace,
+    /// Undo the last molecule move.
+    Undo,
+    /// Redo the last undone move.
+    Redo,
+    /// Put the selected molecule back at its loaded pose (undoable).
+    ResetMolecule,
+    /// Put the camera back where it started.
+    ResetView,
+    /// Move the selected molecule by an exact amount (Å and a turn about its
+    /// centre, axis in world coordinates), through the collision response.
+    MoveBy {
+        /// Translation of the centre, world Å.
+        translate: DVec3,
+        /// Turn axis, world coordinates (any non-zero length).
+        axis: DVec3,
+        /// Turn angle, degrees.
+        degrees: f64,
+    },
+    /// `q`, Escape, window closed.
+    Quit,
+}
+
+/// Everything one frame asks for.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FrameInput {
+    /// Continuous motion per second (joystick deflection, held keys); scaled by `dt`.
+    pub velocity: Motion6,
+    /// A one-off motion applied this frame as is (a key press step, a mouse drag).
+    pub nudge: Motion6,
+    /// Discrete commands, applied in order before the motion.
+    pub commands: Vec<Command>,
+}

@@ -1,0 +1,598 @@
+//! The docking session: the application's state machine, without devices,
+//! pixels or sound.
+//!
+//! A session holds the molecules (one *body* each, with its world pose), the
+//! camera, the mode (view or object), the selected molecule, the collision
+//! settings and the undo history. [`Session::step`] takes one frame's
+//! [`FrameInput`] and a time step and returns a [`FrameOutcome`]: whether
+//! anything moved, the contacts, whether a new contact began (the beep), and
+//! how long collision detection took. The window, the headless replay and the
+//! tests all drive this same code.
+//!
+//! Collisions: only the selected molecule moves, so every other molecule, at
+//! its current pose, is merged into one *environment* indexed by one collider
+//! (rebuilt when the selection changes). A move of the selected molecule is
+//! then one query of the two-body core ([`crate::collide::respond`]), with any
+//! number of molecules loaded.
+
+pub mod camera;
+pub mod history;
+pub mod input;
+
+use std::time::Instant;
+
+use glam::DVec3;
+use thiserror::Error;
+
+pub use camera::Camera;
+pub use history::History;
+pub use input::{Command, FrameInput, Motion6};
+
+use crate::collide::{
+    Collider, ColliderKind, ContactRule, DrugAtoms, Method, Response, TouchOptions, respond,
+};
+use crate::model::Molecule;
+use crate::motion::Pose;
+
+/// What the devices move.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// Everything moves together (the camera moves).
+    #[default]
+    View,
+    /// The selected molecule moves.
+    Object,
+}
+
+/// Which axes a motion is expressed in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Space {
+    /// Screen axes: x right, y up, z towards the viewer (the default).
+    #[default]
+    Screen,
+    /// The moved molecule's own axes.
+    Object,
+}
+
+/// Collision settings of a session.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Collision detection on (thesis key `c`); off at start as in the thesis.
+    pub collision: bool,
+    /// What happens when a move would collide.
+    pub response: Response,
+    /// Move-to-touch tolerance and method.
+    pub touch: TouchOptions,
+    /// The contact rule.
+    pub rule: ContactRule,
+    /// The spatial index.
+    pub collider: ColliderKind,
+    /// Screen or object space for motions.
+    pub space: Space,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            collision: false,
+            response: Response::Touch,
+            touch: TouchOptions {
+                tolerance: 1e-3,
+                method: Method::Swept,
+            },
+            rule: ContactRule::default(),
+            collider: ColliderKind::Hashed,
+            space: Space::Screen,
+        }
+    }
+}
+
+/// A molecule in the session.
+#[derive(Debug, Clone)]
+pub struct Body {
+    /// The molecule (coordinates relative to its centre).
+    pub molecule: Molecule,
+    /// Where it is now (world).
+    pub pose: Pose,
+    /// Where it was loaded.
+    pub loaded: Pose,
+}
+
+/// A pair of atoms in contact, identified across molecules.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contact {
+    /// The moving molecule and its atom.
+    pub moving: (usize, usize),
+    /// The other molecule and its atom.
+    pub other: (usize, usize),
+    /// Centre distance, Å.
+    pub distance: f32,
+    /// Contact distance of the pair (collides at or below), Å.
+    pub contact: f32,
+}
+
+impl Contact {
+    /// `distance − contact`: ≤ 0 collides.
+    pub fn gap(&self) -> f32 {
+        self.distance - self.contact
+    }
+}
+
+/// What one frame did.
+#[derive(Debug, Clone, Default)]
+pub struct FrameOutcome {
+    /// Something visible changed (a pose, the camera, a highlight, a setting).
+    pub changed: bool,
+    /// The selected molecule moved.
+    pub moved: bool,
+    /// Fraction of the requested molecule motion allowed (1 when free).
+    pub t: f64,
+    /// Contacts of the selected molecule at its new pose (collision on only).
+    pub contacts: Vec<Contact>,
+    /// A contact began that was not there the frame before (beep, flash).
+    pub new_contact: bool,
+    /// Atoms whose highlight changed: (molecule, atom, now in contact).
+    pub highlight_changes: Vec<(usize, usize, bool)>,
+    /// Time spent in collision detection this frame, µs (None: no query).
+    pub collision_us: Option<f64>,
+    /// Messages for the status line.
+    pub messages: Vec<String>,
+    /// The user asked to quit.
+    pub quit: bool,
+}
+
+/// A session that cannot start.
+#[derive(Debug, Error, PartialEq)]
+pub enum SessionError {
+    /// No molecule was given.
+    #[error("a session needs at least one molecule")]
+    Empty,
+}
+
+/// The environment of the selected molecule: all others, merged.
+#[derive(Debug, Clone)]
+struct Environment {
+    selected: usize,
+    /// Pose of the merged frame in the world (its centre, no rotation).
+    frame: Pose,
+    collider: Collider,
+    drug: DrugAtoms,
+    /// (molecule, atom) of each environment atom.
+    owners: Vec<(usize, usize)>,
+}
+
+/// The docking session.
+#[derive(Debug, Clone)]
+pub struct Session {
+    bodies: Vec<Body>,
+    selected: usize,
+    mode: Mode,
+    settings: Settings,
+    camera: Camera,
+    home: Camera,
+    history: History,
+    env: Option<Environment>,
+    /// Per molecule, per atom: in contact now.
+    highlighted: Vec<Vec<bool>>,
+    contacts: Vec<Contact>,
+}
+
+impl Session {
+    /// A session over `molecules` at their file poses. The last molecule is
+    /// selected (the drug, when loaded as receptor then drug); the camera
+    /// frames them all.
+    ///
+    /// # Errors
+    /// [`SessionError::Empty`] when `molecules` is empty.
+    pub fn new(molecules: Vec<Molecule>, settings: Settings) -> Result<Self, SessionError> {
+        if molecules.is_empty() {
+            return Err(SessionError::Empty);
+        }
+        let bodies: Vec<Body> = molecules
+            .into_iter()
+            .map(|m| {
+                let pose = Pose::from_translation(m.centre);
+                Body {
+                    molecule: m,
+                    pose,
+                    loaded: pose,
+                }
+            })
+            .collect();
+        let n: f64 = bodies.iter().map(|b| b.molecule.len() as f64).sum();
+        let centre = if n > 0.0 {
+            bodies
+                .iter()
+                .map(|b| b.pose.translation * b.molecule.len() as f64)
+                .sum::<DVec3>()
+                / n
+        } else {
+            DVec3::ZERO
+        };
+        let radius = bodies
+            .iter()
+            .map(|b| (b.pose.translation - centre).length() + b.molecule.bounding_radius())
+            .fold(1.0, f64::max);
+        let camera = Camera::framing(centre, radius);
+        let highlighted = bodies
+            .iter()
+            .map(|b| vec![false; b.molecule.len()])
+            .collect();
+        let selected = bodies.len() - 1;
+        Ok(Self {
+            bodies,
+            selected,
+            mode: Mode::View,
+            settings,
+            camera,
+            home: camera,
+            history: History::default(),
+            env: None,
+            highlighted,
+            contacts: Vec::new(),
+        })
+    }
+
+    /// The molecules.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// Index of the selected molecule.
+    pub fn selected(&self) -> usize {
+        self.selected
+    }
+
+    /// View or object mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// The collision settings.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// The camera.
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// Contacts of the selected molecule after the last frame.
+    pub fn contacts(&self) -> &[Contact] {
+        &self.contacts
+    }
+
+    /// Whether atom `atom` of molecule `body` is highlighted as in contact.
+    pub fn is_highlighted(&self, body: usize, atom: usize) -> bool {
+        self.highlighted
+            .get(body)
+            .and_then(|h| h.get(atom))
+            .copied()
+            .unwrap_or(false)
+    }
+
+    /// The undo history.
+    pub fn history(&self) -> &History {
+        &self.history
+    }
+
+    /// Advances one frame of `dt` seconds.
+    pub fn step(&mut self, input: &FrameInput, dt: f64) -> FrameOutcome {
+        let mut out = FrameOutcome {
+            t: 1.0,
+            ..FrameOutcome::default()
+        };
+        for c in &input.commands {
+            self.command(*c, &mut out);
+        }
+        let dt = if dt.is_finite() {
+            dt.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let motion = input.velocity.scaled(dt).plus(&input.nudge);
+        if !motion.is_finite() {
+            out.messages.push("ignored a non-finite motion".into());
+        } else if motion.is_zero() {
+            self.history.close();
+        } else {
+            match self.mode {
+                Mode::View => {
+                    self.camera.move_scene(motion.translate, motion.rotate);
+                    out.changed = true;
+                }
+                Mode::Object => {
+                    let (translate, axis, angle) = self.to_world(&motion);
+                    self.move_selected(translate, axis, angle, &mut out);
+                }
+            }
+        }
+        out
+    }
+
+    fn command(&mut self, c: Command, out: &mut FrameOutcome) {
+        out.changed = true;
+        match c {
+            Command::ToggleMode => {
+                self.mode = match self.mode {
+                    Mode::View => Mode::Object,
+                    Mode::Object => Mode::View,
+                };
+            }
+            Command::NextMolecule => self.select((self.selected + 1) % self.bodies.len(), out),
+            Command::Select(n) => {
+                if n < self.bodies.len() {
+                    self.select(n, out);
+                } else {
+                    out.messages.push(format!("no molecule {n}"));
+                }
+            }
+            Command::ToggleCollision => {
+                self.settings.collision = !self.settings.collision;
+                if self.settings.collision {
+                    self.refresh_contacts(out);
+                    if self.contacts.iter().any(|c| c.gap() <= 0.0) {
+                        out.messages.push(
+                            "the molecules already overlap: only moves that do not deepen the overlap are allowed"
+                                .into(),
+                        );
+                    }
+                } else {
+                    self.set_contacts(Vec::new(), out);
+                }
+            }
+            Command::SetResponse(r) => self.settings.response = r,
+            Command::CycleResponse => {
+                let all = Response::ALL;
+                let k = all
+                    .iter()
+                    .position(|r| *r == self.settings.response)
+                    .unwrap_or(0);
+                self.settings.response = all[(k + 1) % all.len()];
+            }
+            Command::ToggleSpace => {
+                self.settings.space = match self.settings.space {
+                    Space::Screen => Space::Object,
+                    Space::Object => Space::Screen,
+                };
+            }
+            Command::Undo => match self.history.undo() {
+                Some(m) => self.place(m.body, m.from, out),
+                None => out.messages.push("nothing to undo".into()),
+            },
+            Command::Redo => match self.history.redo() {
+                Some(m) => self.place(m.body, m.to, out),
+                None => out.messages.push("nothing to redo".into()),
+            },
+            Command::ResetMolecule => {
+                let b = self.selected;
+                let (from, to) = (self.bodies[b].pose, self.bodies[b].loaded);
+                self.history.close();
+                self.history.record(b, from, to);
+                self.history.close();
+                self.place(b, to, out);
+            }
+            Command::ResetView => self.camera = self.home,
+            Command::MoveBy {
+                translate,
+                axis,
+                degrees,
+            } => {
+                if translate.is_finite() && axis.is_finite() && degrees.is_finite() {
+                    self.history.close();
+                    let angle = if axis.length_squared() > 0.0 {
+                        degrees.to_radians()
+                    } else {
+                        0.0
+                    };
+                    self.move_selected(translate, axis, angle, out);
+                    self.history.close();
+                } else {
+                    out.messages.push("ignored a non-finite move".into());
+                }
+            }
+            Command::Quit => out.quit = true,
+        }
+    }
+
+    fn select(&mut self, n: usize, out: &mut FrameOutcome) {
+        self.selected = n;
+        self.history.close();
+        self.env = None;
+        self.refresh_contacts(out);
+    }
+
+    /// A motion in screen or object axes as a world translation and turn.
+    fn to_world(&self, m: &Motion6) -> (DVec3, DVec3, f64) {
+        let frame = match self.settings.space {
+            Space::Screen => self.camera.rotation.conjugate(),
+            Space::Object => self.bodies[self.selected].pose.rotation,
+        };
+        let translate = frame * m.translate;
+        let angle = m.rotate.length();
+        let axis = if angle > 0.0 {
+            frame * (m.rotate / angle)
+        } else {
+            DVec3::X
+        };
+        (translate, axis, angle)
+    }
+
+    /// Builds (or reuses) the environment of the selected molecule.
+    fn environment(&mut self) -> Option<&Environment> {
+        let stale = self
+            .env
+            .as_ref()
+            .is_none_or(|e| e.selected != self.selected);
+        if stale {
+            self.env = self.build_environment();
+        }
+        self.env.as_ref()
+    }
+
+    fn build_environment(&self) -> Option<Environment> {
+        let mut atoms = Vec::new();
+        let mut positions = Vec::new();
+        let mut owners = Vec::new();
+        for (k, b) in self.bodies.iter().enumerate() {
+            if k == self.selected {
+                continue;
+            }
+            for (i, a) in b.molecule.atoms.iter().enumerate() {
+                atoms.push(a.clone());
+                positions.push(b.pose.transform_point(b.molecule.local[i].as_dvec3()));
+                owners.push((k, i));
+            }
+        }
+        if atoms.is_empty() {
+            return None;
+        }
+        let merged = Molecule::new("environment", atoms, &positions);
+        let frame = Pose::from_translation(merged.centre);
+        let collider = Collider::build(&merged, &self.settings.rule, self.settings.collider);
+        let drug = DrugAtoms::new(
+            &self.bodies[self.selected].molecule,
+            &self.settings.rule,
+            collider.max_radius(),
+        );
+        Some(Environment {
+            selected: self.selected,
+            frame,
+            collider,
+            drug,
+            owners,
+        })
+    }
+
+    fn move_selected(&mut self, translate: DVec3, axis: DVec3, angle: f64, out: &mut FrameOutcome) {
+        let b = self.selected;
+        let from = self.bodies[b].pose;
+        let to = from.moved(translate, axis, angle);
+        if !self.settings.collision {
+            self.bodies[b].pose = to;
+            self.history.record(b, from, to);
+            out.moved = true;
+            out.changed = true;
+            return;
+        }
+        let (response, touch) = (self.settings.response, self.settings.touch);
+        let Some(env) = self.environment() else {
+            // Nothing to collide with.
+            self.bodies[b].pose = to;
+            self.history.record(b, from, to);
+            out.moved = true;
+            out.changed = true;
+            return;
+        };
+        let inv = env.frame.inverse();
+        let (start, end) = (inv.compose(&from), inv.compose(&to));
+        let t0 = Instant::now();
+        let r = respond(&env.collider, &env.drug, &start, &end, response, &touch);
+        out.collision_us = Some(t0.elapsed().as_secs_f64() * 1e6);
+        let frame = env.frame;
+        let contacts: Vec<Contact> = r
+            .contacts
+            .iter()
+            .map(|p| Contact {
+                moving: (b, p.drug as usize),
+                other: env.owners[p.receptor as usize],
+                distance: p.distance,
+                contact: p.contact,
+            })
+            .collect();
+        out.t = r.t;
+        let new_pose = frame.compose(&r.pose);
+        if new_pose != from {
+            self.bodies[b].pose = new_pose;
+            self.history.record(b, from, new_pose);
+            out.moved = true;
+            out.changed = true;
+        }
+        if !r.start_colliding.is_empty() && r.t < 1.0 {
+            out.messages
+                .push("start pose overlaps: only moves that do not deepen it are allowed".into());
+        }
+        self.set_contacts(contacts, out);
+    }
+
+    /// Puts body `b` at `pose` (undo, redo, reset): a jump, not a motion, so
+    /// collisions are reported at the new pose, not prevented.
+    fn place(&mut self, b: usize, pose: Pose, out: &mut FrameOutcome) {
+        self.bodies[b].pose = pose;
+        out.changed = true;
+        out.moved |= b == self.selected;
+        if b != self.selected {
+            self.env = None; // the environment held the old pose
+        }
+        self.refresh_contacts(out);
+    }
+
+    /// Recomputes the selected molecule's contacts where it stands.
+    fn refresh_contacts(&mut self, out: &mut FrameOutcome) {
+        if !self.settings.collision {
+            self.set_contacts(Vec::new(), out);
+            return;
+        }
+        let b = self.selected;
+        let pose = self.bodies[b].pose;
+        let tol = self.settings.touch.tolerance as f32;
+        let Some(env) = self.environment() else {
+            self.set_contacts(Vec::new(), out);
+            return;
+        };
+        let rel = env.frame.inverse().compose(&pose);
+        let t0 = Instant::now();
+        let pairs = crate::collide::pairs_within(&env.collider, &env.drug, &rel, tol);
+        out.collision_us = Some(t0.elapsed().as_secs_f64() * 1e6);
+        let contacts = pairs
+            .iter()
+            .map(|p| Contact {
+                moving: (b, p.drug as usize),
+                other: env.owners[p.receptor as usize],
+                distance: p.distance,
+                contact: p.contact,
+            })
+            .collect();
+        self.set_contacts(contacts, out);
+    }
+
+    /// Replaces the contact list, reporting highlight changes and new contacts.
+    fn set_contacts(&mut self, contacts: Vec<Contact>, out: &mut FrameOutcome) {
+        let key = |c: &Contact| (c.moving, c.other);
+        let old: std::collections::BTreeSet<_> = self.contacts.iter().map(key).collect();
+        out.new_contact |= contacts.iter().any(|c| !old.contains(&key(c)));
+        let mut now: Vec<Vec<bool>> = self
+            .bodies
+            .iter()
+            .map(|b| vec![false; b.molecule.len()])
+            .collect();
+        for c in &contacts {
+            now[c.moving.0][c.moving.1] = true;
+            now[c.other.0][c.other.1] = true;
+        }
+        for (k, (was, is)) in self.highlighted.iter().zip(&now).enumerate() {
+            for (i, (a, b)) in was.iter().zip(is).enumerate() {
+                if a != b {
+                    out.highlight_changes.push((k, i, *b));
+                }
+            }
+        }
+        if !out.highlight_changes.is_empty() {
+            out.changed = true;
+        }
+        self.highlighted = now;
+        self.contacts = contacts.clone();
+        out.contacts = contacts;
+    }
+
+    /// The world pose of molecule `b` expressed in molecule `frame`'s file
+    /// coordinates (e.g. the drug in the receptor's frame, for saving).
+    pub fn pose_in_frame_of(&self, b: usize, frame: usize) -> Option<Pose> {
+        let body = self.bodies.get(b)?;
+        let reference = self.bodies.get(frame)?;
+        // file coords of `frame` = loaded ∘ pose⁻¹ applied to world points.
+        let world_to_file = reference.loaded.compose(&reference.pose.inverse());
+        Some(world_to_file.compose(&body.pose))
+    }
+}

@@ -1,0 +1,262 @@
+//! The headless docking session: modes, selection, collision responses,
+//! contacts and their cues, undo/redo, screen and object space.
+
+use bump::collide::Response;
+use bump::model::{RadiiSet, builtin};
+use bump::session::{Command, FrameInput, Mode, Motion6, Session, Settings, Space};
+use glam::DVec3;
+
+fn builtin_session() -> Session {
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    Session::new(vec![rings, e], Settings::default()).expect("session")
+}
+
+fn commands(c: &[Command]) -> FrameInput {
+    FrameInput {
+        commands: c.to_vec(),
+        ..FrameInput::default()
+    }
+}
+
+fn push(v: DVec3) -> FrameInput {
+    FrameInput {
+        nudge: Motion6 {
+            translate: v,
+            rotate: DVec3::ZERO,
+        },
+        ..FrameInput::default()
+    }
+}
+
+#[test]
+fn starts_in_view_mode_with_collision_off_and_the_drug_selected() {
+    let s = builtin_session();
+    assert_eq!(s.mode(), Mode::View);
+    assert!(!s.settings().collision);
+    assert_eq!(s.selected(), 1);
+    assert!(Session::new(vec![], Settings::default()).is_err());
+}
+
+#[test]
+fn view_mode_moves_the_camera_not_the_molecules() {
+    let mut s = builtin_session();
+    let poses: Vec<_> = s.bodies().iter().map(|b| b.pose).collect();
+    let cam = *s.camera();
+    let out = s.step(&push(DVec3::new(1.0, 0.0, 0.0)), 0.016);
+    assert!(out.changed && !out.moved);
+    assert_ne!(*s.camera(), cam);
+    assert_eq!(s.bodies().iter().map(|b| b.pose).collect::<Vec<_>>(), poses);
+    s.step(&commands(&[Command::ResetView]), 0.0);
+    assert_eq!(*s.camera(), cam);
+}
+
+#[test]
+fn collision_on_stops_the_e_at_the_rings_and_off_lets_it_through() {
+    let mut s = builtin_session();
+    s.step(
+        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        0.0,
+    );
+    assert_eq!(s.mode(), Mode::Object);
+    // Misalign the prongs, then push 25 Å towards the rings (screen z is
+    // world z with the initial camera): the E stops touching.
+    s.step(&push(DVec3::new(0.0, 5.0, 0.0)), 0.0);
+    let out = s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
+    assert!(out.moved && out.t < 1.0);
+    assert!(!out.contacts.is_empty() && out.contacts.iter().all(|c| c.gap() > 0.0));
+    assert!(out.new_contact, "the first contact beeps");
+    assert!(!out.highlight_changes.is_empty());
+    let (b, a) = out.contacts[0].moving;
+    assert!(s.is_highlighted(b, a));
+    // Pushing on: contacts stay, no new beep.
+    let again = s.step(&push(DVec3::new(0.0, 0.0, 1.0)), 0.0);
+    assert!(!again.new_contact);
+    // Collision off: the push goes through, highlights clear.
+    let off = s.step(&commands(&[Command::ToggleCollision]), 0.0);
+    assert!(off.contacts.is_empty() && !s.is_highlighted(b, a));
+    let through = s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
+    assert!(through.moved && through.t == 1.0 && through.collision_us.is_none());
+}
+
+#[test]
+fn each_response_is_one_command_away() {
+    let mut s = builtin_session();
+    s.step(
+        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        0.0,
+    );
+    s.step(&push(DVec3::new(0.0, 5.0, 0.0)), 0.0);
+    let start = s.bodies()[1].pose;
+    s.step(&commands(&[Command::SetResponse(Response::Stop)]), 0.0);
+    let out = s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
+    assert_eq!(s.bodies()[1].pose, start, "stop rejects the whole step");
+    assert!(!out.moved);
+    s.step(&commands(&[Command::SetResponse(Response::Pass)]), 0.0);
+    let out = s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
+    assert!(
+        out.moved && out.contacts.iter().any(|c| c.gap() <= 0.0),
+        "pass reports overlaps"
+    );
+    s.step(&commands(&[Command::CycleResponse]), 0.0);
+    assert_eq!(s.settings().response, Response::Stop);
+}
+
+#[test]
+fn undo_redo_and_reset() {
+    let mut s = builtin_session();
+    s.step(&commands(&[Command::ToggleMode]), 0.0);
+    let loaded = s.bodies()[1].pose;
+    // A held key over three frames is one gesture, one undo entry.
+    let held = FrameInput {
+        velocity: Motion6 {
+            translate: DVec3::new(10.0, 0.0, 0.0),
+            rotate: DVec3::ZERO,
+        },
+        ..FrameInput::default()
+    };
+    for _ in 0..3 {
+        s.step(&held, 0.1);
+    }
+    s.step(&FrameInput::default(), 0.1); // released
+    let moved = s.bodies()[1].pose;
+    assert!((moved.translation - loaded.translation - DVec3::new(3.0, 0.0, 0.0)).length() < 1e-9);
+    assert_eq!(s.history().undo_len(), 1);
+    s.step(
+        &commands(&[Command::MoveBy {
+            translate: DVec3::new(0.0, 1.0, 0.0),
+            axis: DVec3::Z,
+            degrees: 90.0,
+        }]),
+        0.0,
+    );
+    assert_eq!(s.history().undo_len(), 2);
+    s.step(&commands(&[Command::Undo]), 0.0);
+    assert_eq!(s.bodies()[1].pose, moved);
+    s.step(&commands(&[Command::Undo]), 0.0);
+    assert_eq!(s.bodies()[1].pose, loaded);
+    s.step(&commands(&[Command::Redo]), 0.0);
+    assert_eq!(s.bodies()[1].pose, moved);
+    s.step(&commands(&[Command::ResetMolecule]), 0.0);
+    assert_eq!(s.bodies()[1].pose, loaded);
+    s.step(&commands(&[Command::Undo]), 0.0);
+    assert_eq!(s.bodies()[1].pose, moved, "reset is undoable");
+    let none = s.step(
+        &commands(&[Command::Redo, Command::Redo, Command::Redo]),
+        0.0,
+    );
+    assert!(!none.messages.is_empty());
+}
+
+#[test]
+fn screen_and_object_space() {
+    let mut s = builtin_session();
+    // Turn the view a quarter turn about screen y, then push along screen x.
+    s.step(
+        &FrameInput {
+            nudge: Motion6 {
+                translate: DVec3::ZERO,
+                rotate: DVec3::Y * std::f64::consts::FRAC_PI_2,
+            },
+            ..FrameInput::default()
+        },
+        0.0,
+    );
+    s.step(&commands(&[Command::ToggleMode]), 0.0);
+    let p0 = s.bodies()[1].pose.translation;
+    s.step(&push(DVec3::X), 0.0);
+    let d = s.bodies()[1].pose.translation - p0;
+    // Screen x is now world +z (the scene turned −90° about y relative to the eye).
+    assert!((d - s.camera().to_world(DVec3::X)).length() < 1e-9);
+    assert!((d.length() - 1.0).abs() < 1e-9);
+    // Object space: the molecule's own x, here world x (it has not turned).
+    s.step(&commands(&[Command::ToggleSpace]), 0.0);
+    assert_eq!(s.settings().space, Space::Object);
+    let p1 = s.bodies()[1].pose.translation;
+    s.step(&push(DVec3::X), 0.0);
+    assert!((s.bodies()[1].pose.translation - p1 - DVec3::X).length() < 1e-9);
+}
+
+#[test]
+fn selecting_the_receptor_moves_it_against_the_drug() {
+    let mut s = builtin_session();
+    s.step(
+        &commands(&[
+            Command::ToggleMode,
+            Command::ToggleCollision,
+            Command::NextMolecule,
+        ]),
+        0.0,
+    );
+    assert_eq!(s.selected(), 0);
+    // Drag the rings towards the (misaligned) E: they stop touching it.
+    s.step(&commands(&[Command::Select(1)]), 0.0);
+    s.step(&push(DVec3::new(0.0, 5.0, 0.0)), 0.0);
+    s.step(&commands(&[Command::Select(0)]), 0.0);
+    let out = s.step(&push(DVec3::new(0.0, 0.0, -25.0)), 0.0);
+    assert!(out.t < 1.0 && !out.contacts.is_empty());
+    assert!(
+        out.contacts
+            .iter()
+            .all(|c| c.moving.0 == 0 && c.other.0 == 1)
+    );
+    let bad = s.step(&commands(&[Command::Select(7)]), 0.0);
+    assert!(!bad.messages.is_empty());
+}
+
+#[test]
+fn nonsense_input_is_ignored_not_fatal() {
+    let mut s = builtin_session();
+    s.step(
+        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        0.0,
+    );
+    let p = s.bodies()[1].pose;
+    let out = s.step(&push(DVec3::new(f64::NAN, 0.0, 0.0)), 0.0);
+    assert!(!out.messages.is_empty());
+    let out2 = s.step(
+        &FrameInput {
+            velocity: Motion6 {
+                translate: DVec3::X,
+                rotate: DVec3::ZERO,
+            },
+            ..FrameInput::default()
+        },
+        f64::INFINITY,
+    );
+    assert!(!out2.moved);
+    assert_eq!(s.bodies()[1].pose, p);
+    let q = s.step(&commands(&[Command::Quit]), 0.0);
+    assert!(q.quit);
+}
+
+#[test]
+fn three_molecules_collide_with_each_other() {
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    let (_, e2) = builtin::scene(RadiiSet::Bondi);
+    let mut s = Session::new(vec![rings, e, e2], Settings::default()).expect("session");
+    s.step(
+        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        0.0,
+    );
+    // The two Es start on top of each other: moving one away is allowed,
+    // moving it deeper is not.
+    let out = s.step(&push(DVec3::new(0.0, 0.0, 0.5)), 0.0);
+    assert!(out.contacts.iter().any(|c| c.other.0 == 1));
+    let p = s.bodies()[2].pose;
+    let away = s.step(&push(DVec3::new(0.0, 30.0, 0.0)), 0.0);
+    assert!(away.moved);
+    assert!(s.bodies()[2].pose.translation.y > p.translation.y + 1.0);
+}
+
+#[test]
+fn pose_in_the_receptor_frame_for_saving() {
+    let mut s = builtin_session();
+    s.step(&commands(&[Command::ToggleMode]), 0.0);
+    s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
+    let rel = s.pose_in_frame_of(1, 0).expect("pose");
+    let drug = &s.bodies()[1].molecule;
+    // Docked: the E's atoms are where builtin::docked_offset puts them.
+    let x = rel.transform_point(drug.local[0].as_dvec3());
+    let expected = drug.file_position(0) + builtin::docked_offset();
+    assert!((x - expected).length() < 1e-9);
+}
