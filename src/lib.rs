@@ -13,6 +13,9 @@
 //! - [`session`]: the docking session's state machine (modes, selection,
 //!   collision settings, undo), stepped one frame at a time.
 //!
+//! The shell, which the core never imports:
+//! - [`render`]: wgpu sphere impostors, offscreen rendering to PNG.
+//!
 //! ```
 //! use bump::collide::{ColliderKind, ContactRule, TouchOptions};
 //! use bump::model::{RadiiSet, builtin};
@@ -39,5 +42,6 @@
 pub mod collide;
 pub mod model;
 pub mod motion;
+pub mod render;
 pub mod scene;
 pub mod session;

@@ -8,6 +8,7 @@ macro_rules! outln {
 }
 
 mod check;
+mod render;
 mod report;
 mod scene_args;
 mod stats;
@@ -35,6 +36,8 @@ enum Command {
     Touch(touch::TouchArgs),
     /// Atoms per grid cell (the thesis's Table 1) for real files.
     Stats(stats::StatsArgs),
+    /// Draw the scene offscreen to a PNG (no window needed).
+    Render(render::RenderArgs),
 }
 
 /// Writes one line to stdout; exits 0 on a broken pipe, 2 on any other error.
@@ -56,6 +59,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Check(a)) => check::run(&a),
         Some(Command::Touch(a)) => touch::run(&a),
         Some(Command::Stats(a)) => stats::run(&a),
+        Some(Command::Render(a)) => render::run(&a),
         None => describe(&cli.files),
     }
 }

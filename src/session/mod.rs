@@ -258,6 +258,11 @@ impl Session {
         &self.camera
     }
 
+    /// The camera, to change directly (framing options, window resizes).
+    pub fn camera_mut(&mut self) -> &mut Camera {
+        &mut self.camera
+    }
+
     /// Contacts of the selected molecule after the last frame.
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts

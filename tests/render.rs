@@ -1,0 +1,241 @@
+//! Image tests on whatever adapter there is (Mesa's CPU Vulkan in CI):
+//! silhouettes against the exact perspective projection, depth order,
+//! contact highlights, and what moving a molecule uploads.
+
+mod common;
+
+use bump::model::{LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
+use bump::render::offscreen::{Image, Offscreen, render_image};
+use bump::render::view::{model_views, projection};
+use bump::render::{Gpu, ViewParams};
+use bump::session::{Command, FrameInput, Motion6, Session, Settings};
+use glam::DVec3;
+
+/// The GPU, or `None` (skip) outside CI; under `CI=true` it must exist.
+fn gpu() -> Option<Gpu> {
+    match Gpu::headless() {
+        Ok(g) => Some(g),
+        Err(e) if std::env::var("CI").as_deref() == Ok("true") => panic!("CI must render: {e}"),
+        Err(e) => {
+            eprintln!("SKIP: no graphics adapter ({e})");
+            None
+        }
+    }
+}
+
+fn one_atom(element: &str, radius: f32, at: DVec3) -> Molecule {
+    Molecule::new("atom", vec![common::atom(1, element, radius)], &[at])
+}
+
+fn cmds(c: &[Command]) -> FrameInput {
+    FrameInput {
+        commands: c.to_vec(),
+        ..FrameInput::default()
+    }
+}
+
+/// Pixel where world point `p` of molecule `body` (local coordinates) lands.
+fn project(s: &Session, body: usize, local: DVec3, w: u32, h: u32) -> (u32, u32) {
+    let mv = model_views(s)[body];
+    let clip = projection(s, f64::from(w) / f64::from(h)) * (mv * local.as_vec3().extend(1.0));
+    let ndc = clip / clip.w;
+    let x = (ndc.x + 1.0) * 0.5 * w as f32;
+    let y = (1.0 - ndc.y) * 0.5 * h as f32;
+    (x as u32, y as u32)
+}
+
+fn is_background(img: &Image, px: [u8; 4]) -> bool {
+    px == img.pixel(0, 0).expect("corner")
+}
+
+fn is_green(px: [u8; 4]) -> bool {
+    let [r, g, b, _] = px.map(i32::from);
+    g > r + 40 && g > b + 40
+}
+
+fn is_magenta(px: [u8; 4]) -> bool {
+    let [r, g, b, _] = px.map(i32::from);
+    r > 140 && b > 120 && g < r - 60
+}
+
+fn count(img: &Image, f: impl Fn([u8; 4]) -> bool) -> usize {
+    img.rgba
+        .chunks(4)
+        .filter(|p| f([p[0], p[1], p[2], p[3]]))
+        .count()
+}
+
+#[test]
+fn a_sphere_has_its_exact_perspective_silhouette() {
+    let Some(gpu) = gpu() else { return };
+    let r = 1.7;
+    let s = Session::new(
+        vec![one_atom("C", r, DVec3::new(3.0, -2.0, 1e5))],
+        Settings::default(),
+    )
+    .expect("session");
+    let (w, h) = (400u32, 400u32);
+    let img = render_image(&gpu, &s, w, h, &ViewParams::default()).expect("render");
+    // On the view axis at distance d the silhouette is a circle of NDC radius
+    // f·r/√(d²−r²), f = 1/tan(fov/2).
+    let d = s.camera().distance;
+    let f = 1.0 / (0.5 * s.camera().fov_y).tan();
+    let expected = f * f64::from(r) / (d * d - f64::from(r * r)).sqrt() * f64::from(h) / 2.0;
+    let row = h / 2;
+    let lit: Vec<u32> = (0..w)
+        .filter(|&x| !is_background(&img, img.pixel(x, row).expect("px")))
+        .collect();
+    let width = f64::from(lit.len() as u32);
+    assert!(
+        (width / 2.0 - expected).abs() < 1.5,
+        "silhouette radius {} px, expected {expected:.2} px",
+        width / 2.0
+    );
+    let col: usize = (0..h)
+        .filter(|&y| !is_background(&img, img.pixel(w / 2, y).expect("px")))
+        .count();
+    assert!((col as f64 / 2.0 - expected).abs() < 1.5);
+}
+
+#[test]
+fn nearer_spheres_hide_farther_ones() {
+    let Some(gpu) = gpu() else { return };
+    for (z_green, green_in_front) in [(1.5, true), (-1.5, false)] {
+        // Body 0 has grey carbons, body 1 green: same x, y; one nearer the eye.
+        let grey = one_atom("C", 1.7, DVec3::ZERO);
+        let green = one_atom("C", 1.7, DVec3::new(0.0, 0.0, z_green));
+        let s = Session::new(vec![grey, green], Settings::default()).expect("session");
+        let img = render_image(&gpu, &s, 200, 200, &ViewParams::default()).expect("render");
+        let (x, y) = project(&s, 0, DVec3::ZERO, 200, 200);
+        let px = img.pixel(x, y).expect("centre");
+        assert_eq!(is_green(px), green_in_front, "z {z_green}: {px:?}");
+    }
+}
+
+#[test]
+fn builtin_scene_draws_rings_and_e_where_they_project() {
+    let Some(gpu) = gpu() else { return };
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    let s = Session::new(vec![rings, e], Settings::default()).expect("session");
+    let (w, h) = (480u32, 320u32);
+    let img = render_image(&gpu, &s, w, h, &ViewParams::default()).expect("render");
+    let ring = &s.bodies()[0].molecule;
+    for i in [0, 5, 20, 40] {
+        let (x, y) = project(&s, 0, ring.local[i].as_dvec3(), w, h);
+        let px = img.pixel(x, y).expect("in view");
+        assert!(
+            !is_background(&img, px) && !is_green(px),
+            "ring atom {i} at ({x},{y}): {px:?}"
+        );
+    }
+    // The corners are empty, and most of the picture is background.
+    let bg = count(&img, |p| p == img.pixel(0, 0).expect("corner"));
+    assert!(bg > (w * h) as usize / 2);
+    assert_eq!(count(&img, is_magenta), 0, "no contacts, no highlight");
+}
+
+#[test]
+fn colliding_atoms_are_highlighted_where_they_are() {
+    let Some(gpu) = gpu() else { return };
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    let mut s = Session::new(vec![rings, e], Settings::default()).expect("session");
+    // Misaligned by 5 Å and pushed through with collision off, then checked.
+    s.step(
+        &cmds(&[
+            Command::MoveBy {
+                translate: DVec3::new(0.0, 5.0, 25.0),
+                axis: DVec3::Z,
+                degrees: 0.0,
+            },
+            Command::ToggleCollision,
+        ]),
+        0.0,
+    );
+    assert!(!s.contacts().is_empty());
+    let (w, h) = (480u32, 320u32);
+    let img = render_image(&gpu, &s, w, h, &ViewParams::default()).expect("render");
+    assert!(count(&img, is_magenta) > 50);
+    // Highlighted atoms facing the eye show magenta at their projected centre.
+    let mut seen = 0;
+    for c in s.contacts() {
+        let (b, a) = c.other;
+        let (x, y) = project(&s, b, s.bodies()[b].molecule.local[a].as_dvec3(), w, h);
+        if img.pixel(x, y).is_some_and(is_magenta) {
+            seen += 1;
+        }
+    }
+    assert!(seen > 0, "no highlighted atom visible at its projection");
+}
+
+#[test]
+fn dhfr_with_trimethoprim_renders_and_the_drug_shows_when_pulled_out() {
+    let Some(gpu) = gpu() else { return };
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let loaded = bump::model::load(&dir.join("6xg5_tmp_prepared.pdb"), &LoadOptions::default())
+        .expect("load");
+    let spec = LigandSpec::parse("TOP").expect("spec");
+    let (r, d) = bump::model::split_complex(&loaded.structure, &spec).expect("split");
+    let mut s = Session::new(vec![r, d], Settings::default()).expect("session");
+    let (w, h) = (320u32, 240u32);
+    let img = render_image(&gpu, &s, w, h, &ViewParams::default()).expect("render");
+    let covered = count(&img, |p| p != img.pixel(0, 0).expect("corner"));
+    assert!(covered > (w * h) as usize / 10 && covered < (w * h) as usize * 9 / 10);
+    // Pull the drug 25 Å towards the eye: it is drawn, green, in front.
+    s.step(&cmds(&[Command::ToggleMode]), 0.0);
+    s.step(
+        &FrameInput {
+            nudge: Motion6 {
+                translate: DVec3::new(0.0, 0.0, 25.0),
+                rotate: DVec3::ZERO,
+            },
+            ..FrameInput::default()
+        },
+        0.0,
+    );
+    let img = render_image(&gpu, &s, w, h, &ViewParams::default()).expect("render");
+    let (x, y) = project(&s, 1, DVec3::ZERO, w, h);
+    let greens = (x.saturating_sub(6)..x + 6)
+        .flat_map(|x| (y.saturating_sub(6)..y + 6).map(move |y| (x, y)))
+        .filter(|&(x, y)| img.pixel(x, y).is_some_and(is_green))
+        .count();
+    assert!(greens > 5, "drug not visible near ({x},{y})");
+}
+
+#[test]
+fn moving_a_molecule_uploads_matrices_only_and_highlights_only_changed_words() {
+    let Some(gpu) = gpu() else { return };
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    let mut s = Session::new(vec![rings, e], Settings::default()).expect("session");
+    let mut off = Offscreen::new(&gpu, &s, 64, 64).expect("target");
+    let atoms = off.spheres.upload_stats().atom_bytes;
+    assert_eq!(atoms, 98 * 32);
+    off.render(&gpu, &s, &ViewParams::default())
+        .expect("render");
+    let before = off.spheres.upload_stats();
+    s.step(&cmds(&[Command::ToggleMode, Command::ToggleCollision]), 0.0);
+    let out = s.step(
+        &FrameInput {
+            nudge: Motion6 {
+                translate: DVec3::new(0.0, 5.0, 25.0),
+                rotate: DVec3::ZERO,
+            },
+            ..FrameInput::default()
+        },
+        0.0,
+    );
+    assert!(!out.highlight_changes.is_empty());
+    off.spheres
+        .apply_highlights(&gpu.queue, &out.highlight_changes);
+    off.render(&gpu, &s, &ViewParams::default())
+        .expect("render");
+    let after = off.spheres.upload_stats();
+    assert_eq!(
+        after.atom_bytes, before.atom_bytes,
+        "no atom data after a move"
+    );
+    assert_eq!(after.matrix_bytes - before.matrix_bytes, 96 + 2 * 64);
+    // 98 atoms span 4 words: at most those are rewritten.
+    assert!(after.highlight_bytes - before.highlight_bytes <= 16);
+}
