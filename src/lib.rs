@@ -15,6 +15,7 @@
 //!
 //! The shell, which the core never imports:
 //! - [`render`]: wgpu sphere impostors, offscreen rendering to PNG.
+//! - [`app`]: the docking window (winit, egui HUD, keyboard and mouse).
 //!
 //! ```
 //! use bump::collide::{ColliderKind, ContactRule, TouchOptions};
@@ -39,6 +40,7 @@
 //! assert!(r.t < 1.0 && !r.contacts.is_empty() && r.colliding.is_empty());
 //! ```
 
+pub mod app;
 pub mod collide;
 pub mod model;
 pub mod motion;

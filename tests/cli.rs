@@ -209,9 +209,18 @@ fn bad_input_gets_clear_errors() {
 }
 
 #[test]
-fn no_subcommand_describes_the_builtin_scene() {
-    let out = bump(&[]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("triple ring") && text.contains("colliding pairs at the file pose: 0"));
+fn without_a_display_the_window_fails_cleanly_after_reporting_bad_files() {
+    let out = Command::new(env!("CARGO_BIN_EXE_bump"))
+        .arg("/nonexistent/receptor.pdb")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run bump");
+    assert_eq!(out.status.code(), Some(2));
+    let e = stderr(&out);
+    assert!(e.contains("/nonexistent/receptor.pdb"), "{e}");
+    assert!(
+        e.contains("cannot open a window") && e.contains("bump render"),
+        "{e}"
+    );
 }

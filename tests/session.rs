@@ -260,3 +260,35 @@ fn pose_in_the_receptor_frame_for_saving() {
     let expected = drug.file_position(0) + builtin::docked_offset();
     assert!((x - expected).length() < 1e-9);
 }
+
+#[test]
+fn a_grab_moves_the_molecule_in_view_mode_and_files_can_be_added() {
+    let mut s = builtin_session();
+    assert_eq!(s.mode(), Mode::View);
+    let p = s.bodies()[1].pose;
+    let cam = *s.camera();
+    s.step(
+        &FrameInput {
+            object_nudge: Motion6 {
+                translate: DVec3::new(0.0, 2.0, 0.0),
+                rotate: DVec3::ZERO,
+            },
+            ..FrameInput::default()
+        },
+        0.0,
+    );
+    assert!(
+        (s.bodies()[1].pose.translation - p.translation - DVec3::new(0.0, 2.0, 0.0)).length()
+            < 1e-9
+    );
+    assert_eq!(*s.camera(), cam, "a grab does not move the view");
+    let (_, e) = builtin::scene(RadiiSet::Bondi);
+    s.add_molecule(e);
+    assert_eq!(s.bodies().len(), 3);
+    assert_eq!(s.selected(), 2);
+    s.step(&commands(&[Command::ToggleCollision]), 0.0);
+    assert!(
+        !s.contacts().is_empty(),
+        "the new E overlaps the grabbed one's old place"
+    );
+}

@@ -24,8 +24,19 @@ pub use scene_args::SceneArgs;
 pub struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// Scene files when no subcommand is given (none: the built-in scene).
+    /// Files to open in the docking window: a receptor (or a complex to split
+    /// with --ligand), then drugs and any other molecules. None: the built-in
+    /// scene (the thesis's triple ring and E).
     files: Vec<std::path::PathBuf>,
+    /// With one complex file: the drug residue (RESNAME, RESNAME:CHAIN:SEQ or auto).
+    #[arg(long)]
+    ligand: Option<String>,
+    /// Collider: brute, grid or hashed.
+    #[arg(long, default_value = "hashed")]
+    collider: String,
+    /// Radius table: bondi or thesis.
+    #[arg(long, default_value = "bondi")]
+    radii: String,
 }
 
 #[derive(Debug, Subcommand)]
@@ -60,26 +71,80 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Touch(a)) => touch::run(&a),
         Some(Command::Stats(a)) => stats::run(&a),
         Some(Command::Render(a)) => render::run(&a),
-        None => describe(&cli.files),
+        None => window(&cli),
     }
 }
 
-/// `bump [FILES]` without a subcommand: load the scene and describe it.
-fn describe(files: &[std::path::PathBuf]) -> anyhow::Result<()> {
-    let args = SceneArgs::from_files(files)?;
-    let loaded = args.load()?;
-    let scene = &loaded.scene;
-    outln!(
-        "receptor: {} ({} atoms)\ndrug:     {} ({} atoms)",
-        scene.receptor.name,
-        scene.receptor.len(),
-        scene.drug.name,
-        scene.drug.len()
-    );
-    let pairs = scene.check(&scene.file_relative(glam::DVec3::ZERO));
-    outln!("colliding pairs at the file pose: {}", pairs.len());
-    outln!(
-        "The docking window is not built yet; use `bump check`, `bump touch` or `bump stats` (see `bump --help`)."
-    );
+/// `bump [FILES]` without a subcommand: the docking window. A file that
+/// cannot be read is reported (in the window and on stderr) and skipped.
+fn window(cli: &Cli) -> anyhow::Result<()> {
+    use bump::collide::ColliderKind;
+    use bump::model::{self, LigandSpec, LoadOptions, RadiiSet, builtin};
+    use bump::session::{Session, Settings};
+    let radii = RadiiSet::parse(&cli.radii)
+        .ok_or_else(|| anyhow::anyhow!("unknown radii `{}` (bondi or thesis)", cli.radii))?;
+    let collider = ColliderKind::parse(&cli.collider).ok_or_else(|| {
+        anyhow::anyhow!(
+            "unknown collider `{}` (brute, grid or hashed)",
+            cli.collider
+        )
+    })?;
+    let opts = LoadOptions {
+        radii,
+        ..LoadOptions::default()
+    };
+    let mut molecules = Vec::new();
+    let mut messages = Vec::new();
+    for (k, f) in cli.files.iter().enumerate() {
+        let loaded = match model::load(f, &opts) {
+            Ok(l) => l,
+            Err(e) => {
+                messages.push(e.to_string());
+                continue;
+            }
+        };
+        messages.extend(loaded.warnings.iter().cloned());
+        // A single file is a complex: split off the drug.
+        let split = k == 0 && (cli.files.len() == 1 || cli.ligand.is_some());
+        let result = if split {
+            let text = cli.ligand.as_deref().unwrap_or("auto");
+            LigandSpec::parse(text)
+                .map_err(|e| format!("--ligand {text}: {e}"))
+                .and_then(|spec| {
+                    model::split_complex(&loaded.structure, &spec).map_err(|e| e.to_string())
+                })
+                .map(|(r, d)| vec![r, d])
+        } else {
+            model::receptor_only(&loaded.structure)
+                .map(|m| vec![m])
+                .map_err(|e| e.to_string())
+        };
+        match result {
+            Ok(ms) => molecules.extend(ms),
+            Err(e) => {
+                messages.push(e);
+                // Keep the whole file when the split fails.
+                if let Ok(m) = model::receptor_only(&loaded.structure) {
+                    molecules.push(m);
+                }
+            }
+        }
+    }
+    if molecules.is_empty() {
+        if !cli.files.is_empty() {
+            messages.push("nothing could be loaded: showing the built-in scene".into());
+        }
+        let (r, d) = builtin::scene(radii);
+        molecules = vec![r, d];
+    }
+    for m in &messages {
+        eprintln!("bump: {m}");
+    }
+    let settings = Settings {
+        collider,
+        ..Settings::default()
+    };
+    let session = Session::new(molecules, settings)?;
+    bump::app::run(session, messages)?;
     Ok(())
 }

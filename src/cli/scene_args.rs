@@ -116,32 +116,6 @@ pub struct LoadedScene {
 }
 
 impl SceneArgs {
-    /// Arguments for `bump [FILES]`: none → built-in, one → complex (auto
-    /// ligand), two → receptor and drug.
-    pub fn from_files(files: &[PathBuf]) -> anyhow::Result<Self> {
-        let mut args = Self {
-            receptor: "builtin".into(),
-            drug: None,
-            ligand: None,
-            record: None,
-            radii: RadiiSet::Bondi,
-            hydrogens: Hydrogens::Drop,
-            overlap: 0.6,
-            hbond_allowance: 0.4,
-            collider: ColliderKind::Hashed,
-        };
-        match files {
-            [] => {}
-            [r] => args.receptor = r.display().to_string(),
-            [r, d] => {
-                args.receptor = r.display().to_string();
-                args.drug = Some(d.clone());
-            }
-            _ => bail!("give at most two files (receptor and drug)"),
-        }
-        Ok(args)
-    }
-
     /// The contact rule these options describe.
     pub fn rule(&self) -> anyhow::Result<ContactRule> {
         Ok(ContactRule::new(self.overlap, self.hbond_allowance)?)

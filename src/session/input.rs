@@ -96,8 +96,11 @@ pub enum Command {
 pub struct FrameInput {
     /// Continuous motion per second (joystick deflection, held keys); scaled by `dt`.
     pub velocity: Motion6,
-    /// A one-off motion applied this frame as is (a key press step, a mouse drag).
+    /// A one-off motion applied this frame as is (a key press step).
     pub nudge: Motion6,
+    /// A one-off motion of the selected molecule whatever the mode (a
+    /// modifier-drag of the mouse), screen or object axes as for `nudge`.
+    pub object_nudge: Motion6,
     /// Discrete commands, applied in order before the motion.
     pub commands: Vec<Command>,
 }

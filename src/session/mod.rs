@@ -233,6 +233,21 @@ impl Session {
         })
     }
 
+    /// Adds a molecule at its file pose (e.g. a file dropped on the window)
+    /// and selects it.
+    pub fn add_molecule(&mut self, molecule: Molecule) {
+        let pose = Pose::from_translation(molecule.centre);
+        self.highlighted.push(vec![false; molecule.len()]);
+        self.bodies.push(Body {
+            molecule,
+            pose,
+            loaded: pose,
+        });
+        self.selected = self.bodies.len() - 1;
+        self.env = None;
+        self.history.close();
+    }
+
     /// The molecules.
     pub fn bodies(&self) -> &[Body] {
         &self.bodies
@@ -297,10 +312,19 @@ impl Session {
             0.0
         };
         let motion = input.velocity.scaled(dt).plus(&input.nudge);
+        let grab = input.object_nudge;
+        if !grab.is_finite() {
+            out.messages.push("ignored a non-finite motion".into());
+        } else if !grab.is_zero() {
+            let (translate, axis, angle) = self.to_world(&grab);
+            self.move_selected(translate, axis, angle, &mut out);
+        }
         if !motion.is_finite() {
             out.messages.push("ignored a non-finite motion".into());
         } else if motion.is_zero() {
-            self.history.close();
+            if grab.is_zero() {
+                self.history.close();
+            }
         } else {
             match self.mode {
                 Mode::View => {

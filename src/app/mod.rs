@@ -1,0 +1,660 @@
+//! The docking window: winit events → session steps → wgpu frames + egui HUD.
+//!
+//! A thin layer over the core: keys and mouse become [`FrameInput`]s (through
+//! the pure [`keymap`]), the session decides everything about docking, and
+//! the renderer draws what the session holds. Nothing is drawn when nothing
+//! changed: the loop waits for events, and keeps redrawing only while a key is
+//! held, the background is flashing or the HUD asks for it.
+
+pub mod hud;
+pub mod keymap;
+pub mod pick;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use glam::{DQuat, DVec3};
+use thiserror::Error;
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+use crate::model::{self, LoadOptions};
+use crate::render::colors::BACKGROUND;
+use crate::render::offscreen::{render_image, save_png};
+use crate::render::spheres::DEPTH_FORMAT;
+use crate::render::{Gpu, RenderError, SphereRenderer, ViewParams};
+use crate::session::{Command, FrameInput, Motion6, Session};
+
+use hud::HudState;
+use keymap::{KeyAction, Mods, ShellAction};
+
+/// Why the window could not run.
+#[derive(Debug, Error)]
+pub enum AppError {
+    /// No display or event loop.
+    #[error(
+        "cannot open a window: {0} (is DISPLAY or WAYLAND_DISPLAY set? `bump render` works without one)"
+    )]
+    EventLoop(String),
+    /// The GPU failed.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+}
+
+/// How long the background flashes on a new contact.
+const FLASH: Duration = Duration::from_millis(150);
+/// Mouse travel (pixels) below which a press-release is a click, not a drag.
+const CLICK_SLOP: f64 = 3.0;
+
+/// Opens the window on `session` and runs until the user quits.
+///
+/// # Errors
+/// [`AppError`] when no window or GPU can be had.
+pub fn run(session: Session, messages: Vec<String>) -> Result<(), AppError> {
+    let event_loop = EventLoop::new().map_err(|e| AppError::EventLoop(e.to_string()))?;
+    let mut app = App::new(session);
+    for m in messages {
+        app.hud.say(m);
+    }
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| AppError::EventLoop(e.to_string()))?;
+    match app.fatal.take() {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+struct Gfx {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    gpu: Gpu,
+    config: wgpu::SurfaceConfiguration,
+    depth: wgpu::TextureView,
+    spheres: SphereRenderer,
+    egui_ctx: egui::Context,
+    egui_state: egui_winit::State,
+    egui_renderer: egui_wgpu::Renderer,
+}
+
+#[derive(Default)]
+struct Mouse {
+    pos: (f64, f64),
+    left: bool,
+    middle: bool,
+    press_at: (f64, f64),
+    dragged: bool,
+}
+
+struct App {
+    session: Session,
+    gfx: Option<Gfx>,
+    hud: HudState,
+    held: Vec<KeyCode>,
+    mods: Mods,
+    mouse: Mouse,
+    pending: FrameInput,
+    light: DVec3,
+    flash_until: Option<Instant>,
+    last_frame: Instant,
+    fatal: Option<AppError>,
+    audio_warned: bool,
+}
+
+impl App {
+    fn new(session: Session) -> Self {
+        Self {
+            session,
+            gfx: None,
+            hud: HudState {
+                flash: true,
+                ..HudState::default()
+            },
+            held: Vec::new(),
+            mods: Mods::default(),
+            mouse: Mouse::default(),
+            pending: FrameInput::default(),
+            light: ViewParams::default().light,
+            flash_until: None,
+            last_frame: Instant::now(),
+            fatal: None,
+            audio_warned: false,
+        }
+    }
+
+    fn title(&self) -> String {
+        let names: Vec<&str> = self
+            .session
+            .bodies()
+            .iter()
+            .map(|b| b.molecule.name.as_str())
+            .collect();
+        format!("bump — {}", names.join(" + "))
+    }
+
+    fn init_gfx(&mut self, event_loop: &ActiveEventLoop) -> Result<Gfx, AppError> {
+        let attrs = Window::default_attributes()
+            .with_title(self.title())
+            .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 800.0));
+        let window = Arc::new(
+            event_loop
+                .create_window(attrs)
+                .map_err(|e| AppError::EventLoop(e.to_string()))?,
+        );
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
+                Box::new(event_loop.owned_display_handle()),
+            ));
+        let surface = instance
+            .create_surface(window.clone())
+            .map_err(|e| RenderError::Device(e.to_string()))?;
+        let gpu = Gpu::with_instance(instance, Some(&surface))?;
+        let size = window.inner_size();
+        let caps = surface.get_capabilities(&gpu.adapter);
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(wgpu::TextureFormat::is_srgb)
+            .or_else(|| caps.formats.first().copied())
+            .ok_or_else(|| RenderError::Device("the surface offers no format".into()))?;
+        let mut config = surface
+            .get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1))
+            .ok_or_else(|| RenderError::Device("the surface cannot be configured".into()))?;
+        config.format = format;
+        config.present_mode = wgpu::PresentMode::AutoVsync;
+        surface.configure(&gpu.device, &config);
+        let depth = depth_view(&gpu.device, config.width, config.height);
+        let mut spheres = SphereRenderer::new(&gpu.device, format, &self.session);
+        spheres.sync_highlights(&gpu.queue, &self.session);
+        let egui_ctx = egui::Context::default();
+        let egui_state = egui_winit::State::new(
+            egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(gpu.device.limits().max_texture_dimension_2d as usize),
+        );
+        let egui_renderer =
+            egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default());
+        self.hud.say(format!("rendering with {}", gpu.describe()));
+        Ok(Gfx {
+            window,
+            surface,
+            gpu,
+            config,
+            depth,
+            spheres,
+            egui_ctx,
+            egui_state,
+            egui_renderer,
+        })
+    }
+
+    fn request_redraw(&self) {
+        if let Some(g) = &self.gfx {
+            g.window.request_redraw();
+        }
+    }
+
+    fn key(&mut self, key: KeyCode, pressed: bool, repeat: bool) {
+        // Modifier keys are also tracked from their own key events: they are
+        // ordered with the keys they modify, which ModifiersChanged is not
+        // always (synthetic input, some X servers).
+        match key {
+            KeyCode::ShiftLeft | KeyCode::ShiftRight => self.mods.shift = pressed,
+            KeyCode::ControlLeft | KeyCode::ControlRight => self.mods.ctrl = pressed,
+            KeyCode::AltLeft | KeyCode::AltRight => self.mods.alt = pressed,
+            _ => {}
+        }
+        if !pressed {
+            self.held.retain(|k| *k != key);
+            return;
+        }
+        if repeat {
+            return;
+        }
+        match keymap::action(key, self.mods) {
+            Some(KeyAction::Session(c)) => self.pending.commands.push(c),
+            Some(KeyAction::Shell(a)) => self.shell_action(a),
+            None => {}
+        }
+        if keymap::motion_of(key, self.mods).is_some() && !self.held.contains(&key) {
+            // A tap moves one step at once; holding the key goes on at the
+            // key's velocity.
+            if let Some(step) = keymap::tap(key, self.mods) {
+                self.pending.nudge = self.pending.nudge.plus(&step);
+            }
+            self.held.push(key);
+        }
+    }
+
+    fn shell_action(&mut self, a: ShellAction) {
+        match a {
+            ShellAction::ToggleHelp => self.hud.help = !self.hud.help,
+            ShellAction::ToggleLight => {
+                self.hud.light_mode = !self.hud.light_mode;
+                let state = if self.hud.light_mode { "on" } else { "off" };
+                self.hud.say(format!("light mode {state}"));
+            }
+            ShellAction::ToggleFlash => self.hud.flash = !self.hud.flash,
+            ShellAction::Screenshot => self.screenshot(),
+        }
+    }
+
+    fn screenshot(&mut self) {
+        let Some(g) = &self.gfx else { return };
+        let name = format!(
+            "bump-{}.png",
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_secs())
+                .unwrap_or(0)
+        );
+        let params = ViewParams {
+            light: self.light,
+            ..ViewParams::default()
+        };
+        let result = render_image(
+            &g.gpu,
+            &self.session,
+            g.config.width,
+            g.config.height,
+            &params,
+        )
+        .and_then(|img| save_png(&img, &PathBuf::from(&name)));
+        match result {
+            Ok(()) => self.hud.say(format!("saved {name}")),
+            Err(e) => self.hud.say(format!("screenshot failed: {e}")),
+        }
+    }
+
+    fn open_file(&mut self, path: PathBuf) {
+        let opts = LoadOptions::default();
+        let loaded = model::load(&path, &opts).and_then(|l| {
+            let m = model::receptor_only(&l.structure)?;
+            Ok((l.warnings, m))
+        });
+        match loaded {
+            Ok((warnings, m)) => {
+                for w in warnings {
+                    self.hud.say(w);
+                }
+                self.hud
+                    .say(format!("opened {} ({} atoms)", m.name, m.len()));
+                self.session.add_molecule(m);
+                let title = self.title();
+                if let Some(g) = &mut self.gfx {
+                    let mut spheres =
+                        SphereRenderer::new(&g.gpu.device, g.config.format, &self.session);
+                    spheres.sync_highlights(&g.gpu.queue, &self.session);
+                    g.spheres = spheres;
+                    g.window.set_title(&title);
+                }
+            }
+            Err(e) => self.hud.say(format!("{e}")),
+        }
+    }
+
+    fn mouse_moved(&mut self, x: f64, y: f64) {
+        let (dx, dy) = (x - self.mouse.pos.0, y - self.mouse.pos.1);
+        self.mouse.pos = (x, y);
+        if !(self.mouse.left || self.mouse.middle) {
+            return;
+        }
+        let (px, py) = self.mouse.press_at;
+        if (x - px).hypot(y - py) > CLICK_SLOP {
+            self.mouse.dragged = true;
+        }
+        let (w, h) = self.gfx.as_ref().map_or((1.0, 1.0), |g| {
+            (f64::from(g.config.width), f64::from(g.config.height))
+        });
+        // Å per pixel at the view centre's depth.
+        let cam = *self.session.camera();
+        let per_px = 2.0 * cam.distance * (0.5 * cam.fov_y).tan() / h.max(1.0);
+        let pan = DVec3::new(dx * per_px, -dy * per_px, 0.0);
+        let turn = DVec3::new(dy, dx, 0.0) * (std::f64::consts::PI / w.max(1.0));
+        if self.mods.ctrl && self.mouse.left {
+            // Modifier-drag moves the selected molecule (through collisions).
+            let m = if self.mods.shift {
+                Motion6 {
+                    translate: DVec3::ZERO,
+                    rotate: turn,
+                }
+            } else {
+                Motion6 {
+                    translate: pan,
+                    rotate: DVec3::ZERO,
+                }
+            };
+            self.pending.object_nudge = self.pending.object_nudge.plus(&m);
+        } else if self.mouse.middle || (self.mouse.left && self.mods.shift) {
+            self.session.camera_mut().move_scene(pan, DVec3::ZERO);
+        } else {
+            self.session.camera_mut().move_scene(DVec3::ZERO, turn);
+        }
+        self.request_redraw();
+    }
+
+    fn click(&mut self) {
+        let Some(g) = &self.gfx else { return };
+        let (w, h) = (f64::from(g.config.width), f64::from(g.config.height));
+        let (x, y) = self.mouse.pos;
+        match pick::pick(&self.session, x, y, w, h) {
+            Some((b, i)) => {
+                let m = &self.session.bodies()[b].molecule;
+                let a = &m.atoms[i];
+                self.hud.picked = Some(format!(
+                    "{} {} {}{} {} #{} ({}, r {:.2} Å) in {}",
+                    a.name,
+                    a.residue,
+                    a.chain,
+                    a.seq,
+                    a.element,
+                    a.serial,
+                    a.element,
+                    a.radius,
+                    m.name
+                ));
+                self.pending.commands.push(Command::Select(b));
+            }
+            None => self.hud.picked = None,
+        }
+    }
+
+    /// One frame: step the session, update the GPU, draw scene and HUD.
+    /// Returns `true` when the user asked to quit.
+    fn frame(&mut self) -> bool {
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_frame).as_secs_f64().min(0.1);
+        self.last_frame = now;
+        let mut input = std::mem::take(&mut self.pending);
+        let v = keymap::velocity(&self.held, self.mods);
+        if self.hud.light_mode {
+            // Rotation keys turn the light; translation keys do nothing.
+            let a = v.rotate * dt;
+            if a.length() > 0.0 {
+                self.light = DQuat::from_scaled_axis(a) * self.light;
+            }
+        } else {
+            input.velocity = v;
+        }
+        let Some(g) = self.gfx.as_mut() else {
+            return false;
+        };
+        // The HUD runs first: its widgets add commands to this frame.
+        let raw = g.egui_state.take_egui_input(&g.window);
+        let session = &self.session;
+        let hud = &mut self.hud;
+        let mut hud_cmds = Vec::new();
+        let mut full = g.egui_ctx.run_ui(raw, |ui| {
+            hud_cmds = hud::show(ui, session, hud);
+        });
+        input.commands.extend(hud_cmds);
+        let out = self.session.step(&input, dt);
+        for m in &out.messages {
+            self.hud.say(m.clone());
+        }
+        if out.quit {
+            return true;
+        }
+        if out.collision_us.is_some() {
+            self.hud.collision_us = out.collision_us;
+        }
+        if out.new_contact {
+            if self.hud.flash {
+                self.flash_until = Some(now + FLASH);
+            }
+            if !self.audio_warned {
+                self.audio_warned = true;
+                self.hud
+                    .say("contact (no audio output in this build: the beep is silent)");
+            }
+        }
+        g.egui_state
+            .handle_platform_output(&g.window, std::mem::take(&mut full.platform_output));
+        let flashing = self.flash_until.is_some_and(|t| now < t);
+        g.spheres
+            .apply_highlights(&g.gpu.queue, &out.highlight_changes);
+        let params = ViewParams {
+            aspect: f64::from(g.config.width) / f64::from(g.config.height.max(1)),
+            light: self.light,
+            ..ViewParams::default()
+        };
+        g.spheres.update_view(&g.gpu.queue, &self.session, &params);
+        let frame = match g.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                g.surface.configure(&g.gpu.device, &g.config);
+                g.window.request_redraw();
+                return false;
+            }
+            _ => return false,
+        };
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        let bg = if flashing {
+            [0.35, 0.02, 0.05]
+        } else {
+            BACKGROUND
+        };
+        let mut encoder = g
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("scene"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: bg[0],
+                            g: bg[1],
+                            b: bg[2],
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &g.depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            g.spheres.draw(&mut pass);
+        }
+        // The HUD on top.
+        let ppp = full.pixels_per_point;
+        let jobs = g.egui_ctx.tessellate(std::mem::take(&mut full.shapes), ppp);
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [g.config.width, g.config.height],
+            pixels_per_point: ppp,
+        };
+        // Drain the texture deltas (egui panics on undrained ones in debug).
+        let mut textures = std::mem::take(&mut full.textures_delta);
+        for (id, deltas) in textures.set.drain() {
+            for delta in deltas {
+                g.egui_renderer
+                    .update_texture(&g.gpu.device, &g.gpu.queue, id, &delta);
+            }
+        }
+        let extra = g.egui_renderer.update_buffers(
+            &g.gpu.device,
+            &g.gpu.queue,
+            &mut encoder,
+            &jobs,
+            &screen,
+        );
+        {
+            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("hud"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            g.egui_renderer
+                .render(&mut pass.forget_lifetime(), &jobs, &screen);
+        }
+        for id in textures.free.drain() {
+            g.egui_renderer.free_texture(&id);
+        }
+        g.gpu
+            .queue
+            .submit(extra.into_iter().chain(Some(encoder.finish())));
+        g.gpu.queue.present(frame);
+        self.hud.frame_ms = now.elapsed().as_secs_f64() * 1e3;
+        // Keep going only while something is moving or animating.
+        let egui_wants = full
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .is_some_and(|v| v.repaint_delay < Duration::from_millis(100));
+        if !input.velocity.is_zero() || flashing || egui_wants || out.changed {
+            g.window.request_redraw();
+        }
+        false
+    }
+}
+
+fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth"),
+            size: wgpu::Extent3d {
+                width: width.max(1),
+                height: height.max(1),
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        })
+        .create_view(&wgpu::TextureViewDescriptor::default())
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_some() {
+            return;
+        }
+        match self.init_gfx(event_loop) {
+            Ok(g) => {
+                g.window.request_redraw();
+                self.gfx = Some(g);
+            }
+            Err(e) => {
+                self.fatal = Some(e);
+                event_loop.exit();
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let consumed = match &mut self.gfx {
+            Some(g) => {
+                let r = g.egui_state.on_window_event(&g.window, &event);
+                if r.repaint {
+                    g.window.request_redraw();
+                }
+                r.consumed
+            }
+            None => false,
+        };
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                if let Some(g) = &mut self.gfx {
+                    g.config.width = size.width.max(1);
+                    g.config.height = size.height.max(1);
+                    g.surface.configure(&g.gpu.device, &g.config);
+                    g.depth = depth_view(&g.gpu.device, g.config.width, g.config.height);
+                    g.window.request_redraw();
+                }
+            }
+            WindowEvent::RedrawRequested if self.frame() => event_loop.exit(),
+            WindowEvent::ModifiersChanged(m) => {
+                let s = m.state();
+                self.mods = Mods {
+                    shift: s.shift_key(),
+                    ctrl: s.control_key(),
+                    alt: s.alt_key(),
+                };
+            }
+            WindowEvent::KeyboardInput { event, .. } if !consumed => {
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    self.key(code, event.state == ElementState::Pressed, event.repeat);
+                    self.request_redraw();
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if !consumed {
+                    self.mouse_moved(position.x, position.y);
+                } else {
+                    self.mouse.pos = (position.x, position.y);
+                }
+            }
+            WindowEvent::MouseInput { state, button, .. } if !consumed => {
+                let down = state == ElementState::Pressed;
+                match button {
+                    MouseButton::Left => {
+                        if down {
+                            self.mouse.press_at = self.mouse.pos;
+                            self.mouse.dragged = false;
+                        } else if !self.mouse.dragged {
+                            self.click();
+                        }
+                        self.mouse.left = down;
+                    }
+                    MouseButton::Middle => self.mouse.middle = down,
+                    _ => {}
+                }
+                self.request_redraw();
+            }
+            WindowEvent::MouseWheel { delta, .. } if !consumed => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                let cam = self.session.camera_mut();
+                cam.distance = (cam.distance * 0.9f64.powf(steps)).clamp(1.0, 1e6);
+                self.request_redraw();
+            }
+            WindowEvent::DroppedFile(path) => {
+                self.open_file(path);
+                self.request_redraw();
+            }
+            _ => {}
+        }
+    }
+}
