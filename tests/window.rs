@@ -156,7 +156,7 @@ fn docking_in_a_real_window_shows_the_hud_and_highlights() {
         magenta > 200,
         "no highlighted contacts ({magenta} px)\n{text}"
     );
-    assert!(text.contains("contact"), "no contact reported\n{text}");
+    assert!(text.contains("contact: "), "no contact reported\n{text}");
     // q quits cleanly.
     taps(&display, "q", 1);
     let t1 = Instant::now();

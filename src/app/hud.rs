@@ -29,6 +29,12 @@ pub struct HudState {
     pub typed: String,
     /// The last picked atom's description.
     pub picked: Option<String>,
+    /// Set by the Save button; the window writes the files.
+    pub save_requested: bool,
+    /// Set by the Open button; the window shows the Open dialog.
+    pub open_requested: bool,
+    /// A file chosen in the Open dialog, to open next frame.
+    pub chosen_file: Option<std::path::PathBuf>,
 }
 
 impl HudState {
@@ -129,6 +135,12 @@ pub fn show(ui: &mut egui::Ui, session: &Session, hud: &mut HudState) -> Vec<Com
             }
             if ui.button("Reset").clicked() {
                 cmds.push(Command::ResetMolecule);
+            }
+            if ui.button("Open…").clicked() {
+                hud.open_requested = true;
+            }
+            if ui.button("Save pose").clicked() {
+                hud.save_requested = true;
             }
             if ui.button("Help (F1)").clicked() {
                 hud.help = !hud.help;

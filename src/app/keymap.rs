@@ -19,6 +19,8 @@
 //! | A / D | rotate about the vertical axis |
 //! | Z / X | twist about the depth axis |
 //! | Ctrl+Z, Ctrl+Y (Ctrl+Shift+Z) | undo, redo |
+//! | Ctrl+S | save the selected molecule (in the receptor's frame) as PDB and SDF |
+//! | Ctrl+O | open a file (or drop one on the window) |
 //! | Home | reset the selected molecule to its loaded pose |
 //! | V | reset the view |
 //! | F1 or ? | help |
@@ -70,6 +72,10 @@ pub enum ShellAction {
     ToggleLight,
     /// Background flash on contact on/off.
     ToggleFlash,
+    /// Save the selected molecule, in the first molecule's frame, as PDB and SDF.
+    SavePose,
+    /// Show the Open dialog.
+    Open,
 }
 
 /// A key press, translated.
@@ -89,10 +95,12 @@ pub fn action(key: KeyCode, mods: Mods) -> Option<KeyAction> {
         KeyCode::KeyJ => S(Command::NextMolecule),
         KeyCode::KeyC => S(Command::ToggleCollision),
         KeyCode::KeyR => S(Command::CycleResponse),
-        KeyCode::KeyO => S(Command::ToggleSpace),
+        KeyCode::KeyO if !mods.ctrl => S(Command::ToggleSpace),
         KeyCode::KeyZ if mods.ctrl && mods.shift => S(Command::Redo),
         KeyCode::KeyZ if mods.ctrl => S(Command::Undo),
         KeyCode::KeyY if mods.ctrl => S(Command::Redo),
+        KeyCode::KeyS if mods.ctrl => Shell(ShellAction::SavePose),
+        KeyCode::KeyO if mods.ctrl => Shell(ShellAction::Open),
         KeyCode::Home => S(Command::ResetMolecule),
         KeyCode::KeyV => S(Command::ResetView),
         KeyCode::KeyQ | KeyCode::Escape => S(Command::Quit),
@@ -169,6 +177,11 @@ pub const HELP: &[(&str, &str)] = &[
     ("W/S, A/D, Z/X", "rotate about x, y (vertical), z (depth)"),
     ("Shift / Alt", "coarse (×5) / fine (×0.2)"),
     ("Ctrl+Z, Ctrl+Y", "undo, redo"),
+    (
+        "Ctrl+S",
+        "save the selected molecule's pose (receptor frame) as PDB and SDF",
+    ),
+    ("Ctrl+O", "open a file (or drop files on the window)"),
     ("Home / V", "reset molecule / reset view"),
     (
         "Mouse drag",

@@ -6,8 +6,10 @@
 //! changed: the loop waits for events, and keeps redrawing only while a key is
 //! held, the background is flashing or the HUD asks for it.
 
+pub mod beep;
 pub mod hud;
 pub mod keymap;
+pub mod open_dialog;
 pub mod pick;
 
 use std::path::PathBuf;
@@ -60,6 +62,11 @@ pub fn run(session: Session, messages: Vec<String>) -> Result<(), AppError> {
     for m in messages {
         app.hud.say(m);
     }
+    let (beeper, why) = beep::Beeper::open();
+    app.beeper = beeper;
+    if let Some(w) = why {
+        app.hud.say(w);
+    }
     event_loop
         .run_app(&mut app)
         .map_err(|e| AppError::EventLoop(e.to_string()))?;
@@ -102,7 +109,8 @@ struct App {
     flash_until: Option<Instant>,
     last_frame: Instant,
     fatal: Option<AppError>,
-    audio_warned: bool,
+    beeper: beep::Beeper,
+    open_dialog: open_dialog::OpenDialog,
 }
 
 impl App {
@@ -122,7 +130,8 @@ impl App {
             flash_until: None,
             last_frame: Instant::now(),
             fatal: None,
-            audio_warned: false,
+            beeper: beep::Beeper::open_quietly(),
+            open_dialog: open_dialog::OpenDialog::default(),
         }
     }
 
@@ -244,6 +253,48 @@ impl App {
             }
             ShellAction::ToggleFlash => self.hud.flash = !self.hud.flash,
             ShellAction::Screenshot => self.screenshot(),
+            ShellAction::SavePose => self.save_pose(),
+            ShellAction::Open => self
+                .open_dialog
+                .show_at(std::env::current_dir().unwrap_or_default()),
+        }
+    }
+
+    /// Writes the selected molecule, in the first molecule's (the
+    /// receptor's) file frame, as `<name>-docked.pdb` and `.sdf`.
+    fn save_pose(&mut self) {
+        let b = self.session.selected();
+        let Some(pose) = self.session.pose_in_frame_of(b, 0) else {
+            return;
+        };
+        let mol = &self.session.bodies()[b].molecule;
+        let stem: String = mol
+            .name
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '.' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        let mut said = Vec::new();
+        let pdb = PathBuf::from(format!("{stem}-docked.pdb"));
+        let sdf = PathBuf::from(format!("{stem}-docked.sdf"));
+        match model::write::write_pdb(mol, &pose, &pdb) {
+            Ok(()) => said.push(pdb.display().to_string()),
+            Err(e) => self.hud.say(e.to_string()),
+        }
+        match model::write::write_sdf(mol, &pose, &sdf) {
+            Ok(()) => said.push(sdf.display().to_string()),
+            Err(e) => self.hud.say(e.to_string()),
+        }
+        if !said.is_empty() {
+            self.hud.say(format!(
+                "saved {} in the receptor's frame",
+                said.join(" and ")
+            ));
         }
     }
 
@@ -370,6 +421,16 @@ impl App {
     /// One frame: step the session, update the GPU, draw scene and HUD.
     /// Returns `true` when the user asked to quit.
     fn frame(&mut self) -> bool {
+        // Buttons of the previous frame (egui repaints after a click).
+        if std::mem::take(&mut self.hud.save_requested) {
+            self.save_pose();
+        }
+        if std::mem::take(&mut self.hud.open_requested) {
+            self.shell_action(ShellAction::Open);
+        }
+        if let Some(path) = self.hud.chosen_file.take() {
+            self.open_file(path);
+        }
         let now = Instant::now();
         let dt = now.duration_since(self.last_frame).as_secs_f64().min(0.1);
         self.last_frame = now;
@@ -391,9 +452,13 @@ impl App {
         let raw = g.egui_state.take_egui_input(&g.window);
         let session = &self.session;
         let hud = &mut self.hud;
+        let dialog = &mut self.open_dialog;
         let mut hud_cmds = Vec::new();
         let mut full = g.egui_ctx.run_ui(raw, |ui| {
             hud_cmds = hud::show(ui, session, hud);
+            if let Some(path) = dialog.ui(ui.ctx()) {
+                hud.chosen_file = Some(path);
+            }
         });
         input.commands.extend(hud_cmds);
         let out = self.session.step(&input, dt);
@@ -410,11 +475,9 @@ impl App {
             if self.hud.flash {
                 self.flash_until = Some(now + FLASH);
             }
-            if !self.audio_warned {
-                self.audio_warned = true;
-                self.hud
-                    .say("contact (no audio output in this build: the beep is silent)");
-            }
+            self.beeper.beep();
+            self.hud
+                .say(format!("contact: {} pairs", out.contacts.len()));
         }
         g.egui_state
             .handle_platform_output(&g.window, std::mem::take(&mut full.platform_output));

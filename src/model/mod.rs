@@ -12,6 +12,7 @@ pub mod molecule;
 pub mod pdb;
 pub mod sdf;
 pub mod select;
+pub mod write;
 
 use std::path::Path;
 
