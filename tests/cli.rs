@@ -209,7 +209,7 @@ fn bad_input_gets_clear_errors() {
 }
 
 #[test]
-fn without_a_display_the_window_fails_cleanly_after_reporting_bad_files() {
+fn without_a_display_the_window_fails_cleanly() {
     let out = Command::new(env!("CARGO_BIN_EXE_bump"))
         .arg("/nonexistent/receptor.pdb")
         .env_remove("DISPLAY")
@@ -218,7 +218,6 @@ fn without_a_display_the_window_fails_cleanly_after_reporting_bad_files() {
         .expect("run bump");
     assert_eq!(out.status.code(), Some(2));
     let e = stderr(&out);
-    assert!(e.contains("/nonexistent/receptor.pdb"), "{e}");
     assert!(
         e.contains("cannot open a window") && e.contains("bump render"),
         "{e}"

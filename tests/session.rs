@@ -292,3 +292,38 @@ fn a_grab_moves_the_molecule_in_view_mode_and_files_can_be_added() {
         "the new E overlaps the grabbed one's old place"
     );
 }
+
+#[test]
+fn an_empty_session_waits_for_files_without_panicking() {
+    let mut s = Session::empty(Settings::default());
+    assert!(s.bodies().is_empty());
+    for c in [
+        Command::ToggleMode,
+        Command::ToggleCollision,
+        Command::NextMolecule,
+        Command::Select(0),
+        Command::Undo,
+        Command::Redo,
+        Command::ResetMolecule,
+        Command::ResetView,
+        Command::MoveBy {
+            translate: DVec3::X,
+            axis: DVec3::Z,
+            degrees: 10.0,
+        },
+        Command::CycleResponse,
+        Command::ToggleSpace,
+    ] {
+        s.step(&commands(&[c]), 0.0);
+    }
+    let out = s.step(&push(DVec3::X), 0.016);
+    assert!(out.changed && !out.moved);
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    s.add_molecule(rings);
+    s.add_molecule(e);
+    s.frame_all();
+    assert_eq!(s.selected(), 1);
+    // Object mode and collision were switched on while empty.
+    let moved = s.step(&push(DVec3::new(0.0, 5.0, 25.0)), 0.0);
+    assert!(moved.moved && moved.t < 1.0, "collision is on from before");
+}

@@ -1,6 +1,8 @@
-//! A real window under Xvfb: start `bump`, type keys with xdotool (object
-//! mode, collision on, push the E into the rings), take a screenshot, and
-//! check it shows the HUD and the contact highlights; then quit with `q`.
+//! A real window under Xvfb: start `bump` on a file that cannot be read (it
+//! is reported and the built-in scene opens instead), type keys with xdotool
+//! (object mode, collision on), push the E into the rings with typed moves,
+//! take a screenshot, and check it shows the HUD and the contact highlights;
+//! then quit with `q`.
 //!
 //! Needs `Xvfb`, `xdotool` and ImageMagick's `import` (CI installs them);
 //! elsewhere a missing tool skips the test with a message.
@@ -78,6 +80,7 @@ fn docking_in_a_real_window_shows_the_hud_and_highlights() {
     let log = runtime.join("bump.log");
     let mut app = Kill(
         Command::new(env!("CARGO_BIN_EXE_bump"))
+            .arg("/nonexistent/receptor.pdb")
             .env("DISPLAY", &display)
             .env("XDG_RUNTIME_DIR", &runtime)
             .env_remove("WAYLAND_DISPLAY")
@@ -157,6 +160,11 @@ fn docking_in_a_real_window_shows_the_hud_and_highlights() {
         "no highlighted contacts ({magenta} px)\n{text}"
     );
     assert!(text.contains("contact: "), "no contact reported\n{text}");
+    assert!(
+        text.contains("/nonexistent/receptor.pdb"),
+        "bad file not reported\n{text}"
+    );
+    assert!(text.contains("built-in scene"), "no fallback scene\n{text}");
     // q quits cleanly.
     taps(&display, "q", 1);
     let t1 = Instant::now();

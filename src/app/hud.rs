@@ -35,6 +35,10 @@ pub struct HudState {
     pub open_requested: bool,
     /// A file chosen in the Open dialog, to open next frame.
     pub chosen_file: Option<std::path::PathBuf>,
+    /// The file being read in the background, if any.
+    pub loading: Option<String>,
+    /// When the current load started.
+    pub loading_since: Option<std::time::Instant>,
 }
 
 impl HudState {
@@ -88,6 +92,15 @@ pub fn show(ui: &mut egui::Ui, session: &Session, hud: &mut HudState) -> Vec<Com
                 Mode::View => "View",
                 Mode::Object => "Object",
             };
+            if let Some(f) = &hud.loading {
+                ui.spinner();
+                let t = hud
+                    .loading_since
+                    .map(|t| t.elapsed().as_secs_f64())
+                    .unwrap_or(0.0);
+                ui.label(format!("Loading {f} … {t:.1} s"));
+                ui.separator();
+            }
             ui.strong(format!("Mode: {mode}"));
             ui.separator();
             let sel = session

@@ -47,18 +47,45 @@ pub enum AppError {
     Render(#[from] RenderError),
 }
 
+/// What the file-loading thread reports.
+#[derive(Debug)]
+pub enum LoadEvent {
+    /// Starting to read a file.
+    Reading(String),
+    /// Molecules read from one file.
+    Loaded {
+        /// The file.
+        label: String,
+        /// Its molecules (a complex gives receptor and drug).
+        molecules: Vec<crate::model::Molecule>,
+        /// Loader warnings.
+        warnings: Vec<String>,
+        /// Seconds taken.
+        seconds: f64,
+    },
+    /// A file that could not be used.
+    Failed(String),
+}
+
 /// How long the background flashes on a new contact.
 const FLASH: Duration = Duration::from_millis(150);
 /// Mouse travel (pixels) below which a press-release is a click, not a drag.
 const CLICK_SLOP: f64 = 3.0;
 
-/// Opens the window on `session` and runs until the user quits.
+/// Opens the window on `session` and runs until the user quits. Molecules
+/// that `loader` sends (files read on another thread) join the session as
+/// they arrive; the window stays interactive meanwhile and shows progress.
 ///
 /// # Errors
 /// [`AppError`] when no window or GPU can be had.
-pub fn run(session: Session, messages: Vec<String>) -> Result<(), AppError> {
+pub fn run(
+    session: Session,
+    messages: Vec<String>,
+    loader: Option<std::sync::mpsc::Receiver<LoadEvent>>,
+) -> Result<(), AppError> {
     let event_loop = EventLoop::new().map_err(|e| AppError::EventLoop(e.to_string()))?;
     let mut app = App::new(session);
+    app.loader = loader.map(|rx| (rx, Instant::now()));
     for m in messages {
         app.hud.say(m);
     }
@@ -111,6 +138,7 @@ struct App {
     fatal: Option<AppError>,
     beeper: beep::Beeper,
     open_dialog: open_dialog::OpenDialog,
+    loader: Option<(std::sync::mpsc::Receiver<LoadEvent>, Instant)>,
 }
 
 impl App {
@@ -132,6 +160,7 @@ impl App {
             fatal: None,
             beeper: beep::Beeper::open_quietly(),
             open_dialog: open_dialog::OpenDialog::default(),
+            loader: None,
         }
     }
 
@@ -350,6 +379,79 @@ impl App {
             }
             Err(e) => self.hud.say(format!("{e}")),
         }
+    }
+
+    /// Adds molecules to the session and the GPU.
+    fn add_molecules(&mut self, molecules: Vec<crate::model::Molecule>) {
+        let first = self.session.bodies().is_empty();
+        for m in molecules {
+            self.session.add_molecule(m);
+        }
+        if first {
+            self.session.frame_all();
+        }
+        let title = self.title();
+        if let Some(g) = &mut self.gfx {
+            let mut spheres = SphereRenderer::new(&g.gpu.device, g.config.format, &self.session);
+            spheres.sync_highlights(&g.gpu.queue, &self.session);
+            g.spheres = spheres;
+            g.window.set_title(&title);
+            g.window.request_redraw();
+        }
+    }
+
+    /// Takes what the loading thread has sent; `true` while it is still at work.
+    fn poll_loader(&mut self) -> bool {
+        let Some((rx, _)) = &self.loader else {
+            return false;
+        };
+        let mut events = Vec::new();
+        let mut finished = false;
+        loop {
+            match rx.try_recv() {
+                Ok(e) => events.push(e),
+                Err(std::sync::mpsc::TryRecvError::Empty) => break,
+                Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                    finished = true;
+                    break;
+                }
+            }
+        }
+        for e in events {
+            match e {
+                LoadEvent::Reading(label) => {
+                    self.hud.loading = Some(label);
+                    self.hud.loading_since = Some(Instant::now());
+                }
+                LoadEvent::Loaded {
+                    label,
+                    molecules,
+                    warnings,
+                    seconds,
+                } => {
+                    for w in warnings {
+                        self.hud.say(w);
+                    }
+                    let atoms: usize = molecules.iter().map(|m| m.len()).sum();
+                    self.hud
+                        .say(format!("loaded {label}: {atoms} atoms in {seconds:.2} s"));
+                    self.add_molecules(molecules);
+                }
+                LoadEvent::Failed(msg) => self.hud.say(msg),
+            }
+        }
+        if finished {
+            self.loader = None;
+            self.hud.loading = None;
+            if self.session.bodies().is_empty() {
+                self.hud.say(
+                    "nothing could be loaded: showing the built-in scene (Ctrl+O opens a file)",
+                );
+                let (r, d) = crate::model::builtin::scene(crate::model::RadiiSet::Bondi);
+                self.add_molecules(vec![r, d]);
+            }
+        }
+        !finished
     }
 
     fn mouse_moved(&mut self, x: f64, y: f64) {
@@ -627,6 +729,17 @@ fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureVi
 }
 
 impl ApplicationHandler for App {
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if self.poll_loader() {
+            // Keep the progress display moving and look again soon.
+            let next = Instant::now() + Duration::from_millis(100);
+            event_loop.set_control_flow(winit::event_loop::ControlFlow::WaitUntil(next));
+            self.request_redraw();
+        } else {
+            event_loop.set_control_flow(winit::event_loop::ControlFlow::Wait);
+        }
+    }
+
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.gfx.is_some() {
             return;

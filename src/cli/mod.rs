@@ -75,11 +75,13 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
-/// `bump [FILES]` without a subcommand: the docking window. A file that
-/// cannot be read is reported (in the window and on stderr) and skipped.
+/// `bump [FILES]` without a subcommand: the docking window. Files are read
+/// on another thread while the window is already up; a file that cannot be
+/// read is reported (in the window and on stderr) and skipped.
 fn window(cli: &Cli) -> anyhow::Result<()> {
+    use bump::app::LoadEvent;
     use bump::collide::ColliderKind;
-    use bump::model::{self, LigandSpec, LoadOptions, RadiiSet, builtin};
+    use bump::model::{LoadOptions, RadiiSet, builtin};
     use bump::session::{Session, Settings};
     let radii = RadiiSet::parse(&cli.radii)
         .ok_or_else(|| anyhow::anyhow!("unknown radii `{}` (bondi or thesis)", cli.radii))?;
@@ -89,62 +91,77 @@ fn window(cli: &Cli) -> anyhow::Result<()> {
             cli.collider
         )
     })?;
-    let opts = LoadOptions {
-        radii,
-        ..LoadOptions::default()
-    };
-    let mut molecules = Vec::new();
-    let mut messages = Vec::new();
-    for (k, f) in cli.files.iter().enumerate() {
-        let loaded = match model::load(f, &opts) {
-            Ok(l) => l,
-            Err(e) => {
-                messages.push(e.to_string());
-                continue;
-            }
-        };
-        messages.extend(loaded.warnings.iter().cloned());
-        // A single file is a complex: split off the drug.
-        let split = k == 0 && (cli.files.len() == 1 || cli.ligand.is_some());
-        let result = if split {
-            let text = cli.ligand.as_deref().unwrap_or("auto");
-            LigandSpec::parse(text)
-                .map_err(|e| format!("--ligand {text}: {e}"))
-                .and_then(|spec| {
-                    model::split_complex(&loaded.structure, &spec).map_err(|e| e.to_string())
-                })
-                .map(|(r, d)| vec![r, d])
-        } else {
-            model::receptor_only(&loaded.structure)
-                .map(|m| vec![m])
-                .map_err(|e| e.to_string())
-        };
-        match result {
-            Ok(ms) => molecules.extend(ms),
-            Err(e) => {
-                messages.push(e);
-                // Keep the whole file when the split fails.
-                if let Ok(m) = model::receptor_only(&loaded.structure) {
-                    molecules.push(m);
-                }
-            }
-        }
-    }
-    if molecules.is_empty() {
-        if !cli.files.is_empty() {
-            messages.push("nothing could be loaded: showing the built-in scene".into());
-        }
-        let (r, d) = builtin::scene(radii);
-        molecules = vec![r, d];
-    }
-    for m in &messages {
-        eprintln!("bump: {m}");
-    }
     let settings = Settings {
         collider,
         ..Settings::default()
     };
-    let session = Session::new(molecules, settings)?;
-    bump::app::run(session, messages)?;
+    if cli.files.is_empty() {
+        let (r, d) = builtin::scene(radii);
+        let session = Session::new(vec![r, d], settings)?;
+        bump::app::run(session, Vec::new(), None)?;
+        return Ok(());
+    }
+    let opts = LoadOptions {
+        radii,
+        ..LoadOptions::default()
+    };
+    let files = cli.files.clone();
+    let ligand = cli.ligand.clone();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let single = files.len() == 1;
+        for (k, f) in files.iter().enumerate() {
+            let label = f.display().to_string();
+            if tx.send(LoadEvent::Reading(label.clone())).is_err() {
+                return; // the window is gone
+            }
+            let t0 = std::time::Instant::now();
+            let split = k == 0 && (single || ligand.is_some());
+            let event = match load_for_window(f, split, ligand.as_deref(), &opts) {
+                Ok((molecules, warnings)) => LoadEvent::Loaded {
+                    label,
+                    molecules,
+                    warnings,
+                    seconds: t0.elapsed().as_secs_f64(),
+                },
+                Err(e) => LoadEvent::Failed(e),
+            };
+            if let LoadEvent::Failed(e) = &event {
+                eprintln!("bump: {e}");
+            }
+            if tx.send(event).is_err() {
+                return;
+            }
+        }
+    });
+    bump::app::run(Session::empty(settings), Vec::new(), Some(rx))?;
     Ok(())
+}
+
+/// Reads one file for the window: a complex split into receptor and drug
+/// (`split`), or the whole file as one molecule. When the split fails the
+/// whole file is kept and the reason returned as a warning.
+fn load_for_window(
+    f: &std::path::Path,
+    split: bool,
+    ligand: Option<&str>,
+    opts: &bump::model::LoadOptions,
+) -> Result<(Vec<bump::model::Molecule>, Vec<String>), String> {
+    use bump::model::{self, LigandSpec};
+    let loaded = model::load(f, opts).map_err(|e| e.to_string())?;
+    let mut warnings = loaded.warnings.clone();
+    if split {
+        let text = ligand.unwrap_or("auto");
+        let parts = LigandSpec::parse(text)
+            .map_err(|e| format!("--ligand {text}: {e}"))
+            .and_then(|spec| {
+                model::split_complex(&loaded.structure, &spec).map_err(|e| e.to_string())
+            });
+        match parts {
+            Ok((r, d)) => return Ok((vec![r, d], warnings)),
+            Err(e) => warnings.push(e),
+        }
+    }
+    let m = model::receptor_only(&loaded.structure).map_err(|e| e.to_string())?;
+    Ok((vec![m], warnings))
 }

@@ -149,6 +149,15 @@ pub enum SessionError {
     Empty,
 }
 
+/// A frame's time step, made safe: finite and within [0, 1] s.
+fn dt_clamped(dt: f64) -> f64 {
+    if dt.is_finite() {
+        dt.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
 /// The environment of the selected molecule: all others, merged.
 #[derive(Debug, Clone)]
 struct Environment {
@@ -183,11 +192,22 @@ impl Session {
     /// frames them all.
     ///
     /// # Errors
-    /// [`SessionError::Empty`] when `molecules` is empty.
+    /// [`SessionError::Empty`] when `molecules` is empty (use
+    /// [`Session::empty`] for a session that waits for files).
     pub fn new(molecules: Vec<Molecule>, settings: Settings) -> Result<Self, SessionError> {
         if molecules.is_empty() {
             return Err(SessionError::Empty);
         }
+        Ok(Self::with(molecules, settings))
+    }
+
+    /// A session with no molecule yet (files still loading): only the view,
+    /// the settings and quitting respond until [`Session::add_molecule`].
+    pub fn empty(settings: Settings) -> Self {
+        Self::with(Vec::new(), settings)
+    }
+
+    fn with(molecules: Vec<Molecule>, settings: Settings) -> Self {
         let bodies: Vec<Body> = molecules
             .into_iter()
             .map(|m| {
@@ -218,8 +238,8 @@ impl Session {
             .iter()
             .map(|b| vec![false; b.molecule.len()])
             .collect();
-        let selected = bodies.len() - 1;
-        Ok(Self {
+        let selected = bodies.len().saturating_sub(1);
+        Self {
             bodies,
             selected,
             mode: Mode::View,
@@ -230,7 +250,28 @@ impl Session {
             env: None,
             highlighted,
             contacts: Vec::new(),
-        })
+        }
+    }
+
+    /// Points the camera at all molecules (after files arrive, say).
+    pub fn frame_all(&mut self) {
+        // Frame the molecules where they are now, not where they were loaded.
+        let n: f64 = self.bodies.iter().map(|b| b.molecule.len() as f64).sum();
+        if n > 0.0 {
+            let centre = self
+                .bodies
+                .iter()
+                .map(|b| b.pose.translation * b.molecule.len() as f64)
+                .sum::<DVec3>()
+                / n;
+            let radius = self
+                .bodies
+                .iter()
+                .map(|b| (b.pose.translation - centre).length() + b.molecule.bounding_radius())
+                .fold(1.0, f64::max);
+            self.camera = Camera::framing(centre, radius);
+            self.home = self.camera;
+        }
     }
 
     /// Adds a molecule at its file pose (e.g. a file dropped on the window)
@@ -306,6 +347,15 @@ impl Session {
         for c in &input.commands {
             self.command(*c, &mut out);
         }
+        if self.bodies.is_empty() {
+            // Nothing to move but the view.
+            let m = input.velocity.scaled(dt_clamped(dt)).plus(&input.nudge);
+            if m.is_finite() && !m.is_zero() {
+                self.camera.move_scene(m.translate, m.rotate);
+                out.changed = true;
+            }
+            return out;
+        }
         let dt = if dt.is_finite() {
             dt.clamp(0.0, 1.0)
         } else {
@@ -342,6 +392,19 @@ impl Session {
 
     fn command(&mut self, c: Command, out: &mut FrameOutcome) {
         out.changed = true;
+        let molecule_command = matches!(
+            c,
+            Command::NextMolecule
+                | Command::Select(_)
+                | Command::Undo
+                | Command::Redo
+                | Command::ResetMolecule
+                | Command::MoveBy { .. }
+        );
+        if molecule_command && self.bodies.is_empty() {
+            out.messages.push("no molecule loaded yet".into());
+            return;
+        }
         match c {
             Command::ToggleMode => {
                 self.mode = match self.mode {
@@ -559,7 +622,7 @@ impl Session {
 
     /// Recomputes the selected molecule's contacts where it stands.
     fn refresh_contacts(&mut self, out: &mut FrameOutcome) {
-        if !self.settings.collision {
+        if !self.settings.collision || self.bodies.is_empty() {
             self.set_contacts(Vec::new(), out);
             return;
         }

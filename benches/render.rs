@@ -1,0 +1,83 @@
+//! Frame time of the sphere-impostor renderer at 1280×720, offscreen, on
+//! whatever adapter there is (Mesa's CPU Vulkan without a GPU): the first
+//! 1k, 10k, 100k and all 272k atoms of the RYMV capsid assembly, and the
+//! built-in scene. Each frame includes reading the image back to the CPU
+//! (the window presents instead, which costs less).
+//!
+//! `idle_frame` measures a frame in which nothing changed: the session step
+//! reports `changed == false`, so the window draws nothing at all.
+//!
+//! Run with `cargo bench --bench render`.
+
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use bump::model::{self, LoadOptions, Molecule, RadiiSet, builtin};
+use bump::render::offscreen::Offscreen;
+use bump::render::{Gpu, ViewParams};
+use bump::session::{FrameInput, Session, Settings};
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+
+fn capsid() -> Option<Molecule> {
+    let d = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb"));
+    let loaded = model::load(&d.join("1f2n_assembly1.cif.gz"), &LoadOptions::default()).ok()?;
+    model::receptor_only(&loaded.structure).ok()
+}
+
+fn prefix(m: &Molecule, n: usize) -> Molecule {
+    let n = n.min(m.len());
+    let pos: Vec<_> = (0..n).map(|i| m.file_position(i)).collect();
+    Molecule::new(format!("{n} atoms"), m.atoms[..n].to_vec(), &pos)
+}
+
+fn frames(c: &mut Criterion) {
+    let gpu = match Gpu::headless() {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("SKIP: no graphics adapter: {e}");
+            return;
+        }
+    };
+    eprintln!("adapter: {}", gpu.describe());
+    let mut scenes: Vec<(String, Vec<Molecule>)> = Vec::new();
+    let (r, d) = builtin::scene(RadiiSet::Bondi);
+    scenes.push(("builtin-98".into(), vec![r, d]));
+    match capsid() {
+        Some(m) => {
+            for n in [1_000, 10_000, 100_000, m.len()] {
+                let p = prefix(&m, n);
+                scenes.push((format!("{}", p.len()), vec![p]));
+            }
+        }
+        None => eprintln!("SKIP: ../shared/pdb/1f2n_assembly1.cif.gz not readable"),
+    }
+    let mut g = c.benchmark_group("frame_1280x720");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    for (label, mols) in scenes {
+        let Ok(session) = Session::new(mols, Settings::default()) else {
+            continue;
+        };
+        let Ok(mut target) = Offscreen::new(&gpu, &session, 1280, 720) else {
+            continue;
+        };
+        let params = ViewParams::default();
+        g.bench_function(BenchmarkId::new("draw", &label), |b| {
+            b.iter(|| black_box(target.render(&gpu, &session, &params)))
+        });
+        let mut s = session.clone();
+        g.bench_function(BenchmarkId::new("idle_frame", &label), |b| {
+            b.iter(|| {
+                let out = s.step(&FrameInput::default(), 0.016);
+                assert!(!out.changed, "an idle frame must not ask for a redraw");
+                black_box(out)
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, frames);
+criterion_main!(benches);
