@@ -26,7 +26,12 @@ pub struct WriteError {
     pub reason: String,
 }
 
-fn write_atomically(path: &Path, text: &str) -> Result<(), WriteError> {
+/// Writes `bytes` to `path` through a temporary file in the same folder that
+/// is renamed into place, so a failure never leaves a partial file.
+///
+/// # Errors
+/// [`WriteError`] naming the file.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
     let err = |reason: String| WriteError {
         path: path.display().to_string(),
         reason,
@@ -37,7 +42,7 @@ fn write_atomically(path: &Path, text: &str) -> Result<(), WriteError> {
         .to_string_lossy()
         .into_owned();
     let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    std::fs::write(&tmp, text).map_err(|e| err(e.to_string()))?;
+    std::fs::write(&tmp, bytes).map_err(|e| err(e.to_string()))?;
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         err(e.to_string())
@@ -141,7 +146,7 @@ pub fn sdf_text(mol: &Molecule, pose: &Pose) -> String {
 /// # Errors
 /// [`WriteError`] naming the file.
 pub fn write_pdb(mol: &Molecule, pose: &Pose, path: &Path) -> Result<(), WriteError> {
-    write_atomically(path, &pdb_text(mol, pose))
+    write_atomically(path, pdb_text(mol, pose).as_bytes())
 }
 
 /// Writes `mol` placed by `pose` as SDF to `path`.
@@ -155,7 +160,7 @@ pub fn write_sdf(mol: &Molecule, pose: &Pose, path: &Path) -> Result<(), WriteEr
             reason: format!("{} atoms: SDF V2000 holds at most 999", mol.len()),
         });
     }
-    write_atomically(path, &sdf_text(mol, pose))
+    write_atomically(path, sdf_text(mol, pose).as_bytes())
 }
 
 #[cfg(test)]

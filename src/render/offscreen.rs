@@ -132,37 +132,8 @@ impl Offscreen {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("offscreen"),
             });
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("spheres"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: BACKGROUND[0],
-                            g: BACKGROUND[1],
-                            b: BACKGROUND[2],
-                            a: 1.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            self.spheres.draw(&mut pass);
-        }
+        self.spheres
+            .draw_scene(&mut encoder, &view, &self.depth_view, BACKGROUND);
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &self.color,
@@ -237,18 +208,10 @@ pub fn save_png(image: &Image, path: &Path) -> Result<(), RenderError> {
         path: path.display().to_string(),
         reason,
     };
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| err("not a file name".into()))?
-        .to_string_lossy()
-        .into_owned();
-    let tmp = path.with_file_name(format!(".{file_name}.{}.tmp", std::process::id()));
     let buf = image::RgbaImage::from_raw(image.width, image.height, image.rgba.clone())
         .ok_or_else(|| err("pixel buffer has the wrong size".into()))?;
-    buf.save_with_format(&tmp, image::ImageFormat::Png)
+    let mut png = std::io::Cursor::new(Vec::new());
+    buf.write_to(&mut png, image::ImageFormat::Png)
         .map_err(|e| err(e.to_string()))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        err(e.to_string())
-    })
+    crate::model::write::write_atomically(path, png.get_ref()).map_err(|e| err(e.reason))
 }

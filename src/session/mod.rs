@@ -170,6 +170,22 @@ struct Environment {
     owners: Vec<(usize, usize)>,
 }
 
+impl Environment {
+    /// Pairs between the moving molecule `b` and the environment, as contacts
+    /// between molecules.
+    fn contacts(&self, b: usize, pairs: &[crate::collide::Pair]) -> Vec<Contact> {
+        pairs
+            .iter()
+            .map(|p| Contact {
+                moving: (b, p.drug as usize),
+                other: self.owners[p.receptor as usize],
+                distance: p.distance,
+                contact: p.contact,
+            })
+            .collect()
+    }
+}
+
 /// The docking session.
 #[derive(Debug, Clone)]
 pub struct Session {
@@ -583,16 +599,7 @@ impl Session {
         let r = respond(&env.collider, &env.drug, &start, &end, response, &touch);
         out.collision_us = Some(t0.elapsed().as_secs_f64() * 1e6);
         let frame = env.frame;
-        let contacts: Vec<Contact> = r
-            .contacts
-            .iter()
-            .map(|p| Contact {
-                moving: (b, p.drug as usize),
-                other: env.owners[p.receptor as usize],
-                distance: p.distance,
-                contact: p.contact,
-            })
-            .collect();
+        let contacts = env.contacts(b, &r.contacts);
         out.t = r.t;
         let new_pose = frame.compose(&r.pose);
         if new_pose != from {
@@ -637,15 +644,7 @@ impl Session {
         let t0 = Instant::now();
         let pairs = crate::collide::pairs_within(&env.collider, &env.drug, &rel, tol);
         out.collision_us = Some(t0.elapsed().as_secs_f64() * 1e6);
-        let contacts = pairs
-            .iter()
-            .map(|p| Contact {
-                moving: (b, p.drug as usize),
-                other: env.owners[p.receptor as usize],
-                distance: p.distance,
-                contact: p.contact,
-            })
-            .collect();
+        let contacts = env.contacts(b, &pairs);
         self.set_contacts(contacts, out);
     }
 
