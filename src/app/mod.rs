@@ -27,7 +27,7 @@ use winit::window::{Window, WindowId};
 use crate::model::{self, LoadOptions};
 use crate::render::colors::BACKGROUND;
 use crate::render::offscreen::{render_image, save_png};
-use crate::render::spheres::DEPTH_FORMAT;
+use crate::render::spheres::depth_view;
 use crate::render::{Gpu, RenderError, SphereRenderer, ViewParams};
 use crate::session::{Command, FrameInput, Motion6, Session};
 
@@ -677,25 +677,6 @@ impl App {
         }
         false
     }
-}
-
-fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
-    device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("depth"),
-            size: wgpu::Extent3d {
-                width: width.max(1),
-                height: height.max(1),
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        })
-        .create_view(&wgpu::TextureViewDescriptor::default())
 }
 
 impl ApplicationHandler for App {

@@ -7,7 +7,7 @@ use std::path::Path;
 use super::RenderError;
 use super::colors::BACKGROUND;
 use super::gpu::Gpu;
-use super::spheres::{DEPTH_FORMAT, SphereRenderer};
+use super::spheres::{SphereRenderer, depth_view};
 use super::view::ViewParams;
 use crate::session::Session;
 
@@ -78,16 +78,6 @@ impl Offscreen {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
-        let depth = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("offscreen depth"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
         let padded_row = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
             * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -100,7 +90,7 @@ impl Offscreen {
         spheres.sync_highlights(&gpu.queue, session);
         Ok(Self {
             color,
-            depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
+            depth_view: depth_view(&gpu.device, width, height),
             readback,
             width,
             height,
