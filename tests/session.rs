@@ -327,3 +327,44 @@ fn an_empty_session_waits_for_files_without_panicking() {
     let moved = s.step(&push(DVec3::new(0.0, 5.0, 25.0)), 0.0);
     assert!(moved.moved && moved.t < 1.0, "collision is on from before");
 }
+
+#[test]
+fn highlight_changes_are_exactly_the_atoms_that_changed() {
+    let mut s = builtin_session();
+    s.step(
+        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        0.0,
+    );
+    s.step(&push(DVec3::new(0.0, 5.0, 0.0)), 0.0);
+    let hit = s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
+    let mut lit: Vec<(usize, usize)> = hit
+        .contacts
+        .iter()
+        .flat_map(|c| [c.moving, c.other])
+        .collect();
+    lit.sort_unstable();
+    lit.dedup();
+    let mut changed: Vec<(usize, usize)> = hit
+        .highlight_changes
+        .iter()
+        .map(|&(k, i, on)| {
+            assert!(on);
+            (k, i)
+        })
+        .collect();
+    changed.sort_unstable();
+    assert_eq!(changed, lit, "every lit atom reported once, nothing else");
+    // Pulling back out clears exactly those atoms.
+    let away = s.step(&push(DVec3::new(0.0, 0.0, -10.0)), 0.0);
+    assert!(away.contacts.is_empty());
+    let cleared: Vec<(usize, usize)> = away
+        .highlight_changes
+        .iter()
+        .map(|&(k, i, on)| {
+            assert!(!on);
+            (k, i)
+        })
+        .collect();
+    assert_eq!(cleared, lit);
+    assert!(lit.iter().all(|&(k, i)| !s.is_highlighted(k, i)));
+}

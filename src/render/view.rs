@@ -42,8 +42,12 @@ pub fn model_views(session: &Session) -> Vec<Mat4> {
         .collect()
 }
 
-/// Near and far planes that hold every atom (view-space depths).
+/// Near and far planes that hold every atom (view-space depths); a fixed
+/// range when there is no molecule yet.
 pub fn depth_range(session: &Session) -> (f64, f64) {
+    if session.bodies().is_empty() {
+        return (0.1, 1000.0);
+    }
     let view = session.camera().view_matrix();
     let mut near = f64::INFINITY;
     let mut far: f64 = 0.0;
@@ -92,7 +96,16 @@ pub fn projection(session: &Session, aspect: f64) -> Mat4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::session::Settings;
     use glam::DVec4;
+
+    #[test]
+    fn an_empty_session_still_has_a_finite_projection() {
+        let s = Session::empty(Settings::default());
+        let (near, far) = depth_range(&s);
+        assert!(near.is_finite() && far.is_finite() && near > 0.0 && far > near);
+        assert!(projection(&s, 1.5).is_finite());
+    }
 
     #[test]
     fn perspective_maps_near_to_0_and_far_to_1() {

@@ -649,30 +649,32 @@ impl Session {
     }
 
     /// Replaces the contact list, reporting highlight changes and new contacts.
+    /// Replaces the contact list, reporting highlight changes and new
+    /// contacts. Work is proportional to the contacts, not to the atoms: only
+    /// atoms in the old or the new list can change.
     fn set_contacts(&mut self, contacts: Vec<Contact>, out: &mut FrameOutcome) {
+        use std::collections::BTreeSet;
         let key = |c: &Contact| (c.moving, c.other);
-        let old: std::collections::BTreeSet<_> = self.contacts.iter().map(key).collect();
+        let old: BTreeSet<_> = self.contacts.iter().map(key).collect();
         out.new_contact |= contacts.iter().any(|c| !old.contains(&key(c)));
-        let mut now: Vec<Vec<bool>> = self
-            .bodies
-            .iter()
-            .map(|b| vec![false; b.molecule.len()])
-            .collect();
-        for c in &contacts {
-            now[c.moving.0][c.moving.1] = true;
-            now[c.other.0][c.other.1] = true;
-        }
-        for (k, (was, is)) in self.highlighted.iter().zip(&now).enumerate() {
-            for (i, (a, b)) in was.iter().zip(is).enumerate() {
-                if a != b {
-                    out.highlight_changes.push((k, i, *b));
-                }
+        let atoms = |list: &[Contact]| -> BTreeSet<(usize, usize)> {
+            list.iter().flat_map(|c| [c.moving, c.other]).collect()
+        };
+        let was = atoms(&self.contacts);
+        let now = atoms(&contacts);
+        // Sorted (molecule, atom) order keeps the change list deterministic.
+        for &(k, i) in was.union(&now) {
+            let on = now.contains(&(k, i));
+            if let Some(flag) = self.highlighted.get_mut(k).and_then(|h| h.get_mut(i))
+                && *flag != on
+            {
+                *flag = on;
+                out.highlight_changes.push((k, i, on));
             }
         }
         if !out.highlight_changes.is_empty() {
             out.changed = true;
         }
-        self.highlighted = now;
         self.contacts = contacts.clone();
         out.contacts = contacts;
     }
