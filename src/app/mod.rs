@@ -486,10 +486,20 @@ impl App {
                 }
             };
             self.pending.object_nudge = self.pending.object_nudge.plus(&m);
-        } else if self.mouse.middle || (self.mouse.left && self.mods.shift) {
-            self.session.camera_mut().move_scene(pan, DVec3::ZERO);
         } else {
-            self.session.camera_mut().move_scene(DVec3::ZERO, turn);
+            // Camera moves go through the session too, so a recording holds them.
+            let m = if self.mouse.middle || (self.mouse.left && self.mods.shift) {
+                Motion6 {
+                    translate: pan,
+                    rotate: DVec3::ZERO,
+                }
+            } else {
+                Motion6 {
+                    translate: DVec3::ZERO,
+                    rotate: turn,
+                }
+            };
+            self.pending.view_nudge = self.pending.view_nudge.plus(&m);
         }
         self.request_redraw();
     }
@@ -773,8 +783,7 @@ impl ApplicationHandler for App {
                     MouseScrollDelta::LineDelta(_, y) => f64::from(y),
                     MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
                 };
-                let cam = self.session.camera_mut();
-                cam.distance = (cam.distance * 0.9f64.powf(steps)).clamp(1.0, 1e6);
+                self.pending.zoom += steps;
                 self.request_redraw();
             }
             WindowEvent::DroppedFile(path) => {

@@ -92,15 +92,49 @@ pub enum Command {
 }
 
 /// Everything one frame asks for.
+///
+/// `velocity` and `nudge` move what the mode says (one joystick box, the
+/// keyboard); the `view_*` fields always move the camera and the `object_*`
+/// fields always the selected molecule (the thesis's second joystick box,
+/// mouse drags).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FrameInput {
     /// Continuous motion per second (joystick deflection, held keys); scaled by `dt`.
     pub velocity: Motion6,
     /// A one-off motion applied this frame as is (a key press step).
     pub nudge: Motion6,
+    /// Continuous camera motion per second whatever the mode (the view box).
+    pub view_velocity: Motion6,
+    /// A one-off camera motion whatever the mode (a mouse drag), screen axes.
+    pub view_nudge: Motion6,
+    /// Continuous motion per second of the selected molecule whatever the
+    /// mode (the object box), screen or object axes as for `velocity`.
+    pub object_velocity: Motion6,
     /// A one-off motion of the selected molecule whatever the mode (a
     /// modifier-drag of the mouse), screen or object axes as for `nudge`.
     pub object_nudge: Motion6,
+    /// Zoom in mouse-wheel steps: the camera distance is multiplied by
+    /// 0.9^zoom (positive comes closer).
+    pub zoom: f64,
     /// Discrete commands, applied in order before the motion.
     pub commands: Vec<Command>,
+}
+
+impl FrameInput {
+    /// True when the frame asks for nothing at all.
+    pub fn is_empty(&self) -> bool {
+        self.velocity.is_zero()
+            && self.nudge.is_zero()
+            && self.view_velocity.is_zero()
+            && self.view_nudge.is_zero()
+            && self.object_velocity.is_zero()
+            && self.object_nudge.is_zero()
+            && self.zoom == 0.0
+            && self.commands.is_empty()
+    }
+
+    /// True while something moves continuously (a key held, a stick deflected).
+    pub fn has_velocity(&self) -> bool {
+        !(self.velocity.is_zero() && self.view_velocity.is_zero() && self.object_velocity.is_zero())
+    }
 }

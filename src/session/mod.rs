@@ -18,6 +18,9 @@
 pub mod camera;
 pub mod history;
 pub mod input;
+pub mod log;
+pub mod replay;
+pub mod timing;
 
 use std::time::Instant;
 
@@ -27,6 +30,9 @@ use thiserror::Error;
 pub use camera::Camera;
 pub use history::History;
 pub use input::{Command, FrameInput, Motion6};
+pub use log::{LogError, LogFrame, LogWriter, SessionLog};
+pub use replay::{Replayed, replay};
+pub use timing::{Summary, Timing};
 
 use crate::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, Method, Response, TouchOptions, respond,
@@ -135,10 +141,21 @@ pub struct FrameOutcome {
     pub highlight_changes: Vec<(usize, usize, bool)>,
     /// Time spent in collision detection this frame, µs (None: no query).
     pub collision_us: Option<f64>,
+    /// Each collision query of this frame, µs (the thesis's per-call timing).
+    pub collision_calls: Vec<f64>,
     /// Messages for the status line.
     pub messages: Vec<String>,
     /// The user asked to quit.
     pub quit: bool,
+}
+
+impl FrameOutcome {
+    /// Books one collision query that began at `t0`.
+    fn collision_timed(&mut self, t0: Instant) {
+        let us = t0.elapsed().as_secs_f64() * 1e6;
+        self.collision_calls.push(us);
+        self.collision_us = Some(self.collision_us.unwrap_or(0.0) + us);
+    }
 }
 
 /// A session that cannot start.
@@ -365,43 +382,54 @@ impl Session {
         }
         if self.bodies.is_empty() {
             // Nothing to move but the view.
-            let m = input.velocity.scaled(dt_clamped(dt)).plus(&input.nudge);
+            let dt = dt_clamped(dt);
+            let m = input
+                .velocity
+                .scaled(dt)
+                .plus(&input.nudge)
+                .plus(&input.view_velocity.scaled(dt))
+                .plus(&input.view_nudge);
             if m.is_finite() && !m.is_zero() {
                 self.camera.move_scene(m.translate, m.rotate);
                 out.changed = true;
             }
+            if input.zoom.is_finite() && input.zoom != 0.0 {
+                self.camera.zoom(input.zoom);
+                out.changed = true;
+            }
             return out;
         }
-        let dt = if dt.is_finite() {
-            dt.clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
+        let dt = dt_clamped(dt);
         let motion = input.velocity.scaled(dt).plus(&input.nudge);
-        let grab = input.object_nudge;
-        if !grab.is_finite() {
-            out.messages.push("ignored a non-finite motion".into());
-        } else if !grab.is_zero() {
-            let (translate, axis, angle) = self.to_world(&grab);
-            self.move_selected(translate, axis, angle, &mut out);
-        }
-        if !motion.is_finite() {
-            out.messages.push("ignored a non-finite motion".into());
-        } else if motion.is_zero() {
-            if grab.is_zero() {
-                self.history.close();
-            }
+        let (mut view, mut object) = match self.mode {
+            Mode::View => (motion, Motion6::ZERO),
+            Mode::Object => (Motion6::ZERO, motion),
+        };
+        view = view
+            .plus(&input.view_velocity.scaled(dt))
+            .plus(&input.view_nudge);
+        object = object
+            .plus(&input.object_velocity.scaled(dt))
+            .plus(&input.object_nudge);
+        if !view.is_finite() || !input.zoom.is_finite() {
+            out.messages.push("ignored a non-finite view motion".into());
         } else {
-            match self.mode {
-                Mode::View => {
-                    self.camera.move_scene(motion.translate, motion.rotate);
-                    out.changed = true;
-                }
-                Mode::Object => {
-                    let (translate, axis, angle) = self.to_world(&motion);
-                    self.move_selected(translate, axis, angle, &mut out);
-                }
+            if !view.is_zero() {
+                self.camera.move_scene(view.translate, view.rotate);
+                out.changed = true;
             }
+            if input.zoom != 0.0 {
+                self.camera.zoom(input.zoom);
+                out.changed = true;
+            }
+        }
+        if !object.is_finite() {
+            out.messages.push("ignored a non-finite motion".into());
+        } else if object.is_zero() {
+            self.history.close();
+        } else {
+            let (translate, axis, angle) = self.to_world(&object);
+            self.move_selected(translate, axis, angle, &mut out);
         }
         out
     }
@@ -597,7 +625,7 @@ impl Session {
         let (start, end) = (inv.compose(&from), inv.compose(&to));
         let t0 = Instant::now();
         let r = respond(&env.collider, &env.drug, &start, &end, response, &touch);
-        out.collision_us = Some(t0.elapsed().as_secs_f64() * 1e6);
+        out.collision_timed(t0);
         let frame = env.frame;
         let contacts = env.contacts(b, &r.contacts);
         out.t = r.t;
@@ -643,7 +671,7 @@ impl Session {
         let rel = env.frame.inverse().compose(&pose);
         let t0 = Instant::now();
         let pairs = crate::collide::pairs_within(&env.collider, &env.drug, &rel, tol);
-        out.collision_us = Some(t0.elapsed().as_secs_f64() * 1e6);
+        out.collision_timed(t0);
         let contacts = env.contacts(b, &pairs);
         self.set_contacts(contacts, out);
     }

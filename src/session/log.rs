@@ -1,0 +1,666 @@
+//! Session logs: every frame's input, with its time step, in a versioned,
+//! line-based text format (the thesis's `-l` / `-p` options).
+//!
+//! A log is what the devices asked for, not what happened: joystick axes are
+//! stored as the intents they mapped to, keys and mouse as motions and
+//! commands. Replaying it through [`super::Session::step`] with the recorded
+//! time steps reproduces the session bit for bit on the same build, with or
+//! without a window. Floats are written in Rust's shortest round-trip form,
+//! so they read back exactly.
+//!
+//! # Format, version 1
+//!
+//! ```text
+//! bump-log 1
+//! # any comment line
+//! meta KEY VALUE...                      scene description (files, options)
+//! f DT [FIELD=VALUE]... ~CHECK           one frame
+//! final BODY TX TY TZ QX QY QZ QW ~CHECK the recorded session's final poses
+//! end FRAMES
+//! ```
+//!
+//! Frame fields, each present only when non-zero: `v` (velocity, 6 numbers:
+//! translation x,y,z in Å then rotation vector in rad, per second), `n`
+//! (nudge), `wv`/`wn` (view velocity/nudge), `ov`/`on` (object
+//! velocity/nudge), `z` (zoom steps), and `c` (a command; repeated, in order).
+//! `~CHECK` is the FNV-1a hash (32-bit, hex) of the line before ` ~`, so a
+//! damaged line is named. A log without its `end` line, or whose count
+//! disagrees, was cut short and is refused.
+
+use std::fmt::Write as _;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use glam::{DQuat, DVec3};
+use thiserror::Error;
+
+use super::{Command, FrameInput, Motion6};
+use crate::collide::Response;
+use crate::motion::Pose;
+
+/// The format version this build writes and reads.
+pub const VERSION: u32 = 1;
+
+/// A log that cannot be read or written.
+#[derive(Debug, Error)]
+pub enum LogError {
+    /// The file could not be opened, read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A line that does not parse or whose check fails.
+    #[error("{path}:{line}: {reason}")]
+    Line {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The log ends before its `end` line.
+    #[error("{path}: the log is truncated after line {line} (no `end` line): the recording was cut short")]
+    Truncated {
+        /// The file.
+        path: PathBuf,
+        /// The last line read.
+        line: usize,
+    },
+}
+
+/// One recorded frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogFrame {
+    /// Time step, seconds.
+    pub dt: f64,
+    /// What the frame asked for.
+    pub input: FrameInput,
+}
+
+/// A whole log.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SessionLog {
+    /// Scene description: (key, value) in order.
+    pub meta: Vec<(String, String)>,
+    /// The frames.
+    pub frames: Vec<LogFrame>,
+    /// Final poses of the recorded session, one per molecule (empty when the
+    /// recorder did not write them).
+    pub finals: Vec<Pose>,
+}
+
+impl SessionLog {
+    /// The values of meta key `key`, in order.
+    pub fn meta_values<'a>(&'a self, key: &'a str) -> impl Iterator<Item = &'a str> + 'a {
+        self.meta
+            .iter()
+            .filter(move |(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// The first value of meta key `key`.
+    pub fn meta_value(&self, key: &str) -> Option<&str> {
+        self.meta
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// Total recorded time, seconds.
+    pub fn duration(&self) -> f64 {
+        self.frames.iter().map(|f| f.dt).sum()
+    }
+
+    /// Reads and checks a log file.
+    ///
+    /// # Errors
+    /// [`LogError`] naming the file and line of the first problem.
+    pub fn read(path: &Path) -> Result<Self, LogError> {
+        let text = std::fs::read_to_string(path).map_err(|source| LogError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&text, path)
+    }
+
+    /// Parses log text; `path` names the source in errors.
+    ///
+    /// # Errors
+    /// [`LogError::Line`] for a bad line, [`LogError::Truncated`] when the
+    /// `end` line is missing.
+    pub fn parse(text: &str, path: &Path) -> Result<Self, LogError> {
+        let err = |line: usize, reason: String| LogError::Line {
+            path: path.to_path_buf(),
+            line,
+            reason,
+        };
+        let mut log = SessionLog::default();
+        let mut lines = text.lines().enumerate().map(|(k, l)| (k + 1, l));
+        match lines.next() {
+            Some((_, l)) if l.trim_end() == format!("bump-log {VERSION}") => {}
+            Some((n, l)) if l.starts_with("bump-log ") => {
+                return Err(err(
+                    n,
+                    format!(
+                        "log version `{}` is not supported (this build reads {VERSION})",
+                        &l[9..]
+                    ),
+                ));
+            }
+            Some((n, _)) => return Err(err(n, "not a bump session log (no `bump-log` header)".into())),
+            None => return Err(err(1, "empty file: not a bump session log".into())),
+        }
+        let mut last = 1;
+        for (n, raw) in lines {
+            last = n;
+            let line = raw.trim_end();
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            let (word, rest) = line.split_once(' ').unwrap_or((line, ""));
+            match word {
+                "meta" => {
+                    let (k, v) = rest.split_once(' ').unwrap_or((rest, ""));
+                    if k.is_empty() {
+                        return Err(err(n, "`meta` needs a key".into()));
+                    }
+                    log.meta.push((k.to_string(), v.to_string()));
+                }
+                "f" => {
+                    let body = checked(line).map_err(|r| err(n, r))?;
+                    log.frames.push(parse_frame(body).map_err(|r| err(n, r))?);
+                }
+                "final" => {
+                    let body = checked(line).map_err(|r| err(n, r))?;
+                    log.finals.push(parse_final(body, log.finals.len()).map_err(|r| err(n, r))?);
+                }
+                "end" => {
+                    let count: usize = rest.trim().parse().map_err(|_| {
+                        err(n, format!("`end` needs the frame count, found `{rest}`"))
+                    })?;
+                    if count != log.frames.len() {
+                        return Err(err(
+                            n,
+                            format!(
+                                "`end` says {count} frames but {} were read: frame lines are missing",
+                                log.frames.len()
+                            ),
+                        ));
+                    }
+                    return Ok(log);
+                }
+                other => return Err(err(n, format!("unknown line kind `{other}`"))),
+            }
+        }
+        Err(LogError::Truncated {
+            path: path.to_path_buf(),
+            line: last,
+        })
+    }
+}
+
+/// FNV-1a, 32-bit: a cheap check that names a damaged line.
+fn fnv1a(s: &str) -> u32 {
+    let mut h: u32 = 0x811c_9dc5;
+    for b in s.bytes() {
+        h ^= u32::from(b);
+        h = h.wrapping_mul(0x0100_0193);
+    }
+    h
+}
+
+/// The line without its ` ~CHECK` suffix, after verifying it.
+fn checked(line: &str) -> Result<&str, String> {
+    let (body, check) = line
+        .rsplit_once(" ~")
+        .ok_or("the line has no ` ~` check value: it was cut or edited")?;
+    let want = u32::from_str_radix(check, 16)
+        .map_err(|_| format!("bad check value `{check}`"))?;
+    if fnv1a(body) != want {
+        return Err("the line is damaged (its check value does not match)".into());
+    }
+    Ok(body)
+}
+
+fn num(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("`{s}` is not a finite number"))
+    }
+}
+
+fn nums<const N: usize>(s: &str) -> Result<[f64; N], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    if parts.len() != N {
+        return Err(format!("`{s}`: expected {N} comma-separated numbers"));
+    }
+    let mut out = [0.0; N];
+    for (o, p) in out.iter_mut().zip(parts) {
+        *o = num(p)?;
+    }
+    Ok(out)
+}
+
+fn motion(s: &str) -> Result<Motion6, String> {
+    let [a, b, c, d, e, f] = nums::<6>(s)?;
+    Ok(Motion6 {
+        translate: DVec3::new(a, b, c),
+        rotate: DVec3::new(d, e, f),
+    })
+}
+
+fn parse_frame(body: &str) -> Result<LogFrame, String> {
+    let mut parts = body.split(' ');
+    parts.next(); // "f"
+    let dt = num(parts.next().ok_or("a frame needs its time step")?)?;
+    if dt < 0.0 {
+        return Err(format!("negative time step {dt}"));
+    }
+    let mut input = FrameInput::default();
+    for p in parts {
+        let (k, v) = p
+            .split_once('=')
+            .ok_or_else(|| format!("`{p}` is not FIELD=VALUE"))?;
+        match k {
+            "v" => input.velocity = motion(v)?,
+            "n" => input.nudge = motion(v)?,
+            "wv" => input.view_velocity = motion(v)?,
+            "wn" => input.view_nudge = motion(v)?,
+            "ov" => input.object_velocity = motion(v)?,
+            "on" => input.object_nudge = motion(v)?,
+            "z" => input.zoom = num(v)?,
+            "c" => input.commands.push(parse_command(v)?),
+            _ => return Err(format!("unknown frame field `{k}`")),
+        }
+    }
+    Ok(LogFrame { dt, input })
+}
+
+fn parse_final(body: &str, expected: usize) -> Result<Pose, String> {
+    let f: Vec<&str> = body.split(' ').collect();
+    if f.len() != 9 {
+        return Err("`final` needs a molecule index and 7 numbers".into());
+    }
+    let b: usize = f[1]
+        .parse()
+        .map_err(|_| format!("`{}` is not a molecule index", f[1]))?;
+    if b != expected {
+        return Err(format!("final pose {b} out of order (expected {expected})"));
+    }
+    let v = f[2..]
+        .iter()
+        .map(|s| num(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    let q = DQuat::from_xyzw(v[3], v[4], v[5], v[6]);
+    Ok(Pose::new(q, DVec3::new(v[0], v[1], v[2])))
+}
+
+/// The token a command is written as.
+pub fn command_token(c: &Command) -> String {
+    match c {
+        Command::ToggleMode => "mode".into(),
+        Command::NextMolecule => "next".into(),
+        Command::Select(n) => format!("select:{n}"),
+        Command::ToggleCollision => "collision".into(),
+        Command::SetResponse(r) => format!("response:{}", r.name()),
+        Command::CycleResponse => "cycle-response".into(),
+        Command::ToggleSpace => "space".into(),
+        Command::Undo => "undo".into(),
+        Command::Redo => "redo".into(),
+        Command::ResetMolecule => "reset-molecule".into(),
+        Command::ResetView => "reset-view".into(),
+        Command::MoveBy {
+            translate: t,
+            axis: a,
+            degrees,
+        } => format!(
+            "move:{:?},{:?},{:?},{:?},{:?},{:?},{degrees:?}",
+            t.x, t.y, t.z, a.x, a.y, a.z
+        ),
+        Command::Quit => "quit".into(),
+    }
+}
+
+/// Reads a command token.
+///
+/// # Errors
+/// A message naming the token.
+pub fn parse_command(tok: &str) -> Result<Command, String> {
+    let (name, arg) = tok.split_once(':').unwrap_or((tok, ""));
+    let no_arg = |c: Command| {
+        if arg.is_empty() {
+            Ok(c)
+        } else {
+            Err(format!("command `{name}` takes no argument"))
+        }
+    };
+    match name {
+        "mode" => no_arg(Command::ToggleMode),
+        "next" => no_arg(Command::NextMolecule),
+        "select" => arg
+            .parse()
+            .map(Command::Select)
+            .map_err(|_| format!("`{tok}`: select needs a molecule index")),
+        "collision" => no_arg(Command::ToggleCollision),
+        "response" => Response::parse(arg)
+            .map(Command::SetResponse)
+            .ok_or_else(|| format!("`{tok}`: unknown response")),
+        "cycle-response" => no_arg(Command::CycleResponse),
+        "space" => no_arg(Command::ToggleSpace),
+        "undo" => no_arg(Command::Undo),
+        "redo" => no_arg(Command::Redo),
+        "reset-molecule" => no_arg(Command::ResetMolecule),
+        "reset-view" => no_arg(Command::ResetView),
+        "move" => {
+            let [tx, ty, tz, ax, ay, az, degrees] = nums::<7>(arg)?;
+            Ok(Command::MoveBy {
+                translate: DVec3::new(tx, ty, tz),
+                axis: DVec3::new(ax, ay, az),
+                degrees,
+            })
+        }
+        "quit" => no_arg(Command::Quit),
+        _ => Err(format!("unknown command `{tok}`")),
+    }
+}
+
+fn push_motion(line: &mut String, key: &str, m: &Motion6) {
+    if !m.is_zero() {
+        let (t, r) = (m.translate, m.rotate);
+        let _ = write!(
+            line,
+            " {key}={:?},{:?},{:?},{:?},{:?},{:?}",
+            t.x, t.y, t.z, r.x, r.y, r.z
+        );
+    }
+}
+
+/// The text of one frame line, check included (no newline).
+pub fn frame_line(dt: f64, input: &FrameInput) -> String {
+    let mut line = format!("f {dt:?}");
+    push_motion(&mut line, "v", &input.velocity);
+    push_motion(&mut line, "n", &input.nudge);
+    push_motion(&mut line, "wv", &input.view_velocity);
+    push_motion(&mut line, "wn", &input.view_nudge);
+    push_motion(&mut line, "ov", &input.object_velocity);
+    push_motion(&mut line, "on", &input.object_nudge);
+    if input.zoom != 0.0 {
+        let _ = write!(line, " z={:?}", input.zoom);
+    }
+    for c in &input.commands {
+        let _ = write!(line, " c={}", command_token(c));
+    }
+    with_check(line)
+}
+
+fn with_check(mut line: String) -> String {
+    let h = fnv1a(&line);
+    let _ = write!(line, " ~{h:08x}");
+    line
+}
+
+/// The text of a final-pose line, check included.
+pub fn final_line(body: usize, pose: &Pose) -> String {
+    let (t, q) = (pose.translation, pose.rotation);
+    with_check(format!(
+        "final {body} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
+        t.x, t.y, t.z, q.x, q.y, q.z, q.w
+    ))
+}
+
+/// Writes a log as the session runs. Lines go to `FILE.part`; [`finish`]
+/// writes the closing lines and renames it to `FILE`, so a log that exists
+/// under its own name is complete (an interrupted recording stays `.part`).
+///
+/// [`finish`]: LogWriter::finish
+pub struct LogWriter {
+    path: PathBuf,
+    part: PathBuf,
+    out: std::io::BufWriter<std::fs::File>,
+    frames: usize,
+}
+
+impl std::fmt::Debug for LogWriter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LogWriter")
+            .field("path", &self.path)
+            .field("frames", &self.frames)
+            .finish()
+    }
+}
+
+impl LogWriter {
+    /// Starts a log at `path` with the scene description `meta`.
+    ///
+    /// # Errors
+    /// [`LogError::Io`] when the file cannot be created.
+    pub fn create(path: &Path, meta: &[(String, String)]) -> Result<Self, LogError> {
+        let mut part = path.as_os_str().to_owned();
+        part.push(".part");
+        let part = PathBuf::from(part);
+        let io = |source| LogError::Io {
+            path: part.clone(),
+            source,
+        };
+        let file = std::fs::File::create(&part).map_err(io)?;
+        let mut w = Self {
+            path: path.to_path_buf(),
+            part: part.clone(),
+            out: std::io::BufWriter::new(file),
+            frames: 0,
+        };
+        let mut head = format!(
+            "bump-log {VERSION}\n# bump session log: one line per frame (see src/session/log.rs for the format)\n"
+        );
+        for (k, v) in meta {
+            let v = v.replace(['\n', '\r'], " ");
+            let _ = writeln!(head, "meta {k} {v}");
+        }
+        w.out.write_all(head.as_bytes()).map_err(io)?;
+        Ok(w)
+    }
+
+    /// Appends one frame.
+    ///
+    /// # Errors
+    /// [`LogError::Io`] when the write fails.
+    pub fn frame(&mut self, dt: f64, input: &FrameInput) -> Result<(), LogError> {
+        let line = frame_line(dt, input);
+        self.frames += 1;
+        writeln!(self.out, "{line}").map_err(|source| LogError::Io {
+            path: self.part.clone(),
+            source,
+        })
+    }
+
+    /// Frames written so far.
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+
+    /// Writes the final poses and the `end` line, and gives the log its name.
+    ///
+    /// # Errors
+    /// [`LogError::Io`] when a write or the rename fails.
+    pub fn finish(mut self, finals: &[Pose]) -> Result<PathBuf, LogError> {
+        let io = |source| LogError::Io {
+            path: self.part.clone(),
+            source,
+        };
+        let mut tail = String::new();
+        for (b, p) in finals.iter().enumerate() {
+            let _ = writeln!(tail, "{}", final_line(b, p));
+        }
+        let _ = writeln!(tail, "end {}", self.frames);
+        self.out.write_all(tail.as_bytes()).map_err(io)?;
+        self.out.flush().map_err(io)?;
+        self.out.get_ref().sync_all().map_err(io)?;
+        std::fs::rename(&self.part, &self.path).map_err(io)?;
+        Ok(self.path)
+    }
+}
+
+/// A whole log as text (for tests and scripted logs).
+pub fn to_text(log: &SessionLog) -> String {
+    let mut s = format!("bump-log {VERSION}\n");
+    for (k, v) in &log.meta {
+        let _ = writeln!(s, "meta {k} {v}");
+    }
+    for f in &log.frames {
+        let _ = writeln!(s, "{}", frame_line(f.dt, &f.input));
+    }
+    for (b, p) in log.finals.iter().enumerate() {
+        let _ = writeln!(s, "{}", final_line(b, p));
+    }
+    let _ = writeln!(s, "end {}", log.frames.len());
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> SessionLog {
+        let odd = Motion6 {
+            translate: DVec3::new(0.1, -1e-300, 12345.678901234567),
+            rotate: DVec3::new(f64::MIN_POSITIVE, -0.0, 1.0 / 3.0),
+        };
+        SessionLog {
+            meta: vec![
+                ("file".into(), "../shared/pdb/a b.pdb".into()),
+                ("collider".into(), "grid".into()),
+            ],
+            frames: vec![
+                LogFrame {
+                    dt: 1.0 / 60.0,
+                    input: FrameInput::default(),
+                },
+                LogFrame {
+                    dt: 0.016_7,
+                    input: FrameInput {
+                        velocity: odd,
+                        nudge: odd.scaled(2.0),
+                        view_velocity: odd.scaled(-1.0),
+                        view_nudge: odd,
+                        object_velocity: odd.scaled(0.5),
+                        object_nudge: odd,
+                        zoom: -2.5,
+                        commands: vec![
+                            Command::ToggleMode,
+                            Command::NextMolecule,
+                            Command::Select(3),
+                            Command::ToggleCollision,
+                            Command::SetResponse(Response::Slide),
+                            Command::CycleResponse,
+                            Command::ToggleSpace,
+                            Command::Undo,
+                            Command::Redo,
+                            Command::ResetMolecule,
+                            Command::ResetView,
+                            Command::MoveBy {
+                                translate: DVec3::new(1.5, -2.0, 1e-9),
+                                axis: DVec3::Y,
+                                degrees: 0.1,
+                            },
+                            Command::Quit,
+                        ],
+                    },
+                },
+            ],
+            finals: vec![Pose::new(
+                DQuat::from_axis_angle(DVec3::new(0.3, 0.4, 0.5).normalize(), 0.7),
+                DVec3::new(1e5, -0.1, 3.0),
+            )],
+        }
+    }
+
+    #[test]
+    fn a_log_reads_back_bit_for_bit() {
+        let log = sample();
+        let text = to_text(&log);
+        let back = SessionLog::parse(&text, Path::new("x.log")).unwrap();
+        assert_eq!(back, log);
+        // -0.0 and tiny values survive exactly, not just approximately.
+        let r = back.frames[1].input.velocity.rotate;
+        assert!(r.y.is_sign_negative() && r.x == f64::MIN_POSITIVE);
+        assert_eq!(back.meta_value("file"), Some("../shared/pdb/a b.pdb"));
+    }
+
+    #[test]
+    fn a_damaged_line_is_named() {
+        let text = to_text(&sample());
+        // Change one digit of the second frame (line 5).
+        let damaged = text.replacen("0.0167", "0.0168", 1);
+        assert_ne!(damaged, text);
+        let e = SessionLog::parse(&damaged, Path::new("x.log")).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.starts_with("x.log:5: "), "{msg}");
+        assert!(msg.contains("damaged"), "{msg}");
+    }
+
+    #[test]
+    fn a_truncated_log_is_refused() {
+        let text = to_text(&sample());
+        let cut: String = text.lines().take(4).map(|l| format!("{l}\n")).collect();
+        let e = SessionLog::parse(&cut, Path::new("x.log")).unwrap_err();
+        assert!(matches!(e, LogError::Truncated { line: 4, .. }), "{e}");
+        assert!(e.to_string().contains("truncated"));
+        // A line cut in the middle loses its check.
+        let half = &text[..text.find("~").unwrap() - 3];
+        let e = SessionLog::parse(half, Path::new("x.log")).unwrap_err();
+        assert!(e.to_string().contains("x.log:"), "{e}");
+        // A missing frame line is caught by the count.
+        let lines: Vec<&str> = text.lines().collect();
+        let without: String = lines
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| *k != 3)
+            .map(|(_, l)| format!("{l}\n"))
+            .collect();
+        let e = SessionLog::parse(&without, Path::new("x.log")).unwrap_err();
+        assert!(e.to_string().contains("frames but"), "{e}");
+    }
+
+    #[test]
+    fn bad_headers_and_fields_are_refused_with_their_line() {
+        let p = Path::new("x.log");
+        assert!(SessionLog::parse("", p).is_err());
+        let e = SessionLog::parse("hello\n", p).unwrap_err().to_string();
+        assert!(e.contains("x.log:1") && e.contains("not a bump session log"), "{e}");
+        let e = SessionLog::parse("bump-log 9\nend 0\n", p).unwrap_err().to_string();
+        assert!(e.contains("version `9`"), "{e}");
+        for bad in ["f 0.1 v=1,2,3", "f -1", "f 0.1 q=1", "f 0.1 c=fly", "f NaN", "f 0.1 z=inf"] {
+            let text = format!("bump-log 1\n{}\nend 1\n", with_check(bad.to_string()));
+            let e = SessionLog::parse(&text, p).unwrap_err().to_string();
+            assert!(e.starts_with("x.log:2: "), "{bad}: {e}");
+        }
+        let e = SessionLog::parse("bump-log 1\nbogus\nend 0\n", p).unwrap_err().to_string();
+        assert!(e.contains("x.log:2") && e.contains("bogus"), "{e}");
+    }
+
+    #[test]
+    fn the_writer_names_the_file_only_when_complete() {
+        let dir = std::env::temp_dir().join(format!("bump-log-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("s.log");
+        let log = sample();
+        let mut w = LogWriter::create(&path, &log.meta).unwrap();
+        for f in &log.frames {
+            w.frame(f.dt, &f.input).unwrap();
+        }
+        assert!(!path.exists(), "no complete log before finish");
+        assert!(dir.join("s.log.part").exists());
+        w.finish(&log.finals).unwrap();
+        assert!(!dir.join("s.log.part").exists());
+        let back = SessionLog::read(&path).unwrap();
+        assert_eq!(back.frames, log.frames);
+        assert_eq!(back.finals, log.finals);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
