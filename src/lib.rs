@@ -16,6 +16,8 @@
 //! The shell, which the core never imports:
 //! - [`render`]: wgpu sphere impostors, offscreen rendering to PNG.
 //! - [`app`]: the docking window (winit, egui HUD, keyboard and mouse).
+//! - [`input`]: joysticks and gamepads (gilrs) mapped to motions; the
+//!   mapping itself is pure.
 //!
 //! ```
 //! use bump::collide::{ColliderKind, ContactRule, TouchOptions};
@@ -42,6 +44,7 @@
 
 pub mod app;
 pub mod collide;
+pub mod input;
 pub mod model;
 pub mod motion;
 pub mod render;

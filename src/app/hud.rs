@@ -39,6 +39,10 @@ pub struct HudState {
     pub loading: Option<String>,
     /// When the current load started.
     pub loading_since: Option<std::time::Instant>,
+    /// The joysticks and their boxes, when joysticks are in use.
+    pub joysticks: Option<String>,
+    /// Recording or replay progress.
+    pub replay: Option<String>,
 }
 
 impl HudState {
@@ -134,6 +138,14 @@ pub fn show(ui: &mut egui::Ui, session: &Session, hud: &mut HudState) -> Vec<Com
             ui.separator();
             ui.label(format!("Contacts: {}", session.contacts().len()));
             ui.separator();
+            if let Some(r) = &hud.replay {
+                ui.strong(r);
+                ui.separator();
+            }
+            if let Some(j) = &hud.joysticks {
+                ui.label(j);
+                ui.separator();
+            }
             ui.label(format!("Frame {:.1} ms", hud.frame_ms));
             match hud.collision_us {
                 Some(us) => ui.label(format!("Collision {us:.1} µs")),

@@ -8,6 +8,7 @@
 
 pub mod beep;
 pub mod hud;
+pub mod joysticks;
 pub mod keymap;
 pub mod open_dialog;
 pub mod pick;
@@ -29,7 +30,8 @@ use crate::render::colors::BACKGROUND;
 use crate::render::offscreen::{render_image, save_png};
 use crate::render::spheres::depth_view;
 use crate::render::{Gpu, RenderError, SphereRenderer, ViewParams};
-use crate::session::{Command, FrameInput, Motion6, Session};
+use crate::input::JoystickMap;
+use crate::session::{Command, FrameInput, LogWriter, Motion6, Session, SessionLog, Timing};
 
 use hud::HudState;
 use keymap::{KeyAction, Mods, ShellAction};
@@ -45,6 +47,9 @@ pub enum AppError {
     /// The GPU failed.
     #[error(transparent)]
     Render(#[from] RenderError),
+    /// The session log could not be written.
+    #[error("recording: {0}")]
+    Recording(String),
 }
 
 /// What the file-loading thread reports.
@@ -72,17 +77,58 @@ const FLASH: Duration = Duration::from_millis(150);
 /// Mouse travel (pixels) below which a press-release is a click, not a drag.
 const CLICK_SLOP: f64 = 3.0;
 
+/// How the window takes input beyond keyboard and mouse.
+#[derive(Debug, Default)]
+pub struct Options {
+    /// The joystick map.
+    pub joystick_map: JoystickMap,
+    /// Two joystick boxes: the first moves the view, the second the molecule.
+    pub two_boxes: bool,
+    /// Rumble gamepads on contact.
+    pub rumble: bool,
+    /// Record every frame's input here.
+    pub record: Option<LogWriter>,
+    /// Replay this log instead of live input, then quit.
+    pub play: Option<SessionLog>,
+    /// What the timing report names (collider, method).
+    pub report_label: String,
+}
+
+/// What a window session did, for the caller to report.
+#[derive(Debug, Default)]
+pub struct Ended {
+    /// Frame and collision times.
+    pub timing: Timing,
+    /// The recording's file, when one was written.
+    pub recorded: Option<PathBuf>,
+    /// The session at the end.
+    pub session: Option<Session>,
+    /// Frames replayed from a log (when playing).
+    pub replayed: Option<usize>,
+}
+
+/// A log being replayed in the window, paced at its recorded times.
+#[derive(Debug)]
+struct Player {
+    log: SessionLog,
+    next: usize,
+    started: Option<Instant>,
+    elapsed: f64,
+}
+
 /// Opens the window on `session` and runs until the user quits. Molecules
 /// that `loader` sends (files read on another thread) join the session as
 /// they arrive; the window stays interactive meanwhile and shows progress.
 ///
 /// # Errors
-/// [`AppError`] when no window or GPU can be had.
+/// [`AppError`] when no window or GPU can be had, or the recording cannot
+/// be finished.
 pub fn run(
     session: Session,
     messages: Vec<String>,
     loader: Option<std::sync::mpsc::Receiver<LoadEvent>>,
-) -> Result<(), AppError> {
+    options: Options,
+) -> Result<Ended, AppError> {
     let event_loop = EventLoop::new().map_err(|e| AppError::EventLoop(e.to_string()))?;
     let mut app = App::new(session);
     app.loader = loader.map(|rx| (rx, Instant::now()));
@@ -94,13 +140,42 @@ pub fn run(
     if let Some(w) = why {
         app.hud.say(w);
     }
+    if options.play.is_none() {
+        let (sticks, said) =
+            joysticks::Joysticks::open(options.joystick_map, options.two_boxes, options.rumble);
+        for m in said {
+            app.hud.say(m);
+        }
+        app.hud.joysticks = Some(sticks.describe());
+        app.joysticks = Some(sticks);
+    }
+    app.recorder = options.record;
+    app.player = options.play.map(|log| Player {
+        log,
+        next: 0,
+        started: None,
+        elapsed: 0.0,
+    });
     event_loop
         .run_app(&mut app)
         .map_err(|e| AppError::EventLoop(e.to_string()))?;
-    match app.fatal.take() {
-        Some(e) => Err(e),
-        None => Ok(()),
+    if let Some(e) = app.fatal.take() {
+        return Err(e);
     }
+    let mut ended = Ended {
+        replayed: app.player.as_ref().map(|p| p.next),
+        ..Ended::default()
+    };
+    if let Some(w) = app.recorder.take() {
+        let finals: Vec<_> = app.session.bodies().iter().map(|b| b.pose).collect();
+        let path = w
+            .finish(&finals)
+            .map_err(|e| AppError::Recording(e.to_string()))?;
+        ended.recorded = Some(path);
+    }
+    ended.timing = std::mem::take(&mut app.timing);
+    ended.session = Some(app.session);
+    Ok(ended)
 }
 
 struct Gfx {
@@ -139,6 +214,10 @@ struct App {
     beeper: beep::Beeper,
     open_dialog: open_dialog::OpenDialog,
     loader: Option<(std::sync::mpsc::Receiver<LoadEvent>, Instant)>,
+    joysticks: Option<joysticks::Joysticks>,
+    recorder: Option<LogWriter>,
+    player: Option<Player>,
+    timing: Timing,
 }
 
 impl App {
@@ -161,6 +240,10 @@ impl App {
             beeper: beep::Beeper::open_quietly(),
             open_dialog: open_dialog::OpenDialog::default(),
             loader: None,
+            joysticks: None,
+            recorder: None,
+            player: None,
+            timing: Timing::default(),
         }
     }
 
@@ -255,6 +338,13 @@ impl App {
             return;
         }
         if repeat {
+            return;
+        }
+        if self.player.is_some() {
+            // A replay takes no live input, but the user may stop it.
+            if matches!(key, KeyCode::Escape | KeyCode::KeyQ) {
+                self.pending.commands.push(Command::Quit);
+            }
             return;
         }
         match keymap::action(key, self.mods) {
@@ -544,7 +634,7 @@ impl App {
             self.open_file(path);
         }
         let now = Instant::now();
-        let dt = now.duration_since(self.last_frame).as_secs_f64().min(0.1);
+        let mut dt = now.duration_since(self.last_frame).as_secs_f64().min(0.1);
         self.last_frame = now;
         let mut input = std::mem::take(&mut self.pending);
         let v = keymap::velocity(&self.held, self.mods);
@@ -556,6 +646,9 @@ impl App {
             }
         } else {
             input.velocity = v;
+        }
+        if let Some(j) = &self.joysticks {
+            j.intents().add_to(&mut input);
         }
         let Some(g) = self.gfx.as_mut() else {
             return false;
@@ -573,7 +666,40 @@ impl App {
             }
         });
         input.commands.extend(hud_cmds);
-        let out = self.session.step(&input, dt);
+        // A replay ignores live input and steps only when a recorded frame is due.
+        let mut step = true;
+        if let Some(p) = &mut self.player {
+            let started = *p.started.get_or_insert(now);
+            let due = p
+                .log
+                .frames
+                .get(p.next)
+                .map(|f| p.elapsed + f.dt <= now.duration_since(started).as_secs_f64());
+            match due {
+                Some(true) => {
+                    let f = &p.log.frames[p.next];
+                    input = f.input.clone();
+                    dt = f.dt;
+                    p.elapsed += f.dt;
+                    p.next += 1;
+                    self.hud.replay = Some(format!("Playing {}/{}", p.next, p.log.frames.len()));
+                }
+                Some(false) => step = false,
+                None => return true,
+            }
+        }
+        if let Some(w) = &mut self.recorder
+            && let Err(e) = w.frame(dt, &input)
+        {
+            self.hud.say(format!("recording stopped: {e}"));
+            self.recorder = None;
+            self.hud.replay = None;
+        }
+        let out = if step {
+            self.session.step(&input, dt)
+        } else {
+            crate::session::FrameOutcome::default()
+        };
         for m in &out.messages {
             self.hud.say(m.clone());
         }
@@ -588,6 +714,9 @@ impl App {
                 self.flash_until = Some(now + FLASH);
             }
             self.beeper.beep();
+            if let Some(msg) = self.joysticks.as_mut().and_then(|j| j.contact()) {
+                self.hud.say(msg);
+            }
             self.hud
                 .say(format!("contact: {} pairs", out.contacts.len()));
         }
@@ -677,12 +806,16 @@ impl App {
             .submit(extra.into_iter().chain(Some(encoder.finish())));
         g.gpu.queue.present(frame);
         self.hud.frame_ms = now.elapsed().as_secs_f64() * 1e3;
+        if step {
+            self.timing
+                .frame(now.elapsed().as_secs_f64() * 1e6, &out.collision_calls);
+        }
         // Keep going only while something is moving or animating.
         let egui_wants = full
             .viewport_output
             .get(&egui::ViewportId::ROOT)
             .is_some_and(|v| v.repaint_delay < Duration::from_millis(100));
-        if !input.velocity.is_zero() || flashing || egui_wants || out.changed {
+        if input.has_velocity() || flashing || egui_wants || out.changed {
             g.window.request_redraw();
         }
         false
@@ -691,14 +824,48 @@ impl App {
 
 impl ApplicationHandler for App {
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let now = Instant::now();
+        let mut wake: Option<Instant> = None;
+        let mut soon = |t: Instant| wake = Some(wake.map_or(t, |w: Instant| w.min(t)));
         if self.poll_loader() {
             // Keep the progress display moving and look again soon.
-            let next = Instant::now() + Duration::from_millis(100);
-            event_loop.set_control_flow(winit::event_loop::ControlFlow::WaitUntil(next));
+            soon(now + Duration::from_millis(100));
             self.request_redraw();
-        } else {
-            event_loop.set_control_flow(winit::event_loop::ControlFlow::Wait);
         }
+        let mut redraw = false;
+        if let Some(j) = &mut self.joysticks {
+            let said = j.poll();
+            if !said.is_empty() {
+                self.hud.joysticks = Some(j.describe());
+                for m in said {
+                    self.hud.say(m);
+                }
+                redraw = true;
+            }
+            if j.any() {
+                // gilrs does not wake the event loop: poll at ~100 Hz.
+                soon(now + Duration::from_millis(10));
+                redraw |= !j.intents().is_zero();
+            }
+        }
+        if redraw {
+            self.request_redraw();
+        }
+        if let Some(p) = &self.player {
+            let due = p.started.map_or(now, |s| {
+                let ahead = p.log.frames.get(p.next).map_or(0.0, |f| p.elapsed + f.dt);
+                s + Duration::from_secs_f64(ahead)
+            });
+            if due <= now {
+                self.request_redraw();
+            } else {
+                soon(due);
+            }
+        }
+        event_loop.set_control_flow(match wake {
+            Some(t) => winit::event_loop::ControlFlow::WaitUntil(t),
+            None => winit::event_loop::ControlFlow::Wait,
+        });
     }
 
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
