@@ -25,12 +25,12 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
+use crate::input::JoystickMap;
 use crate::model::{self, LoadOptions};
 use crate::render::colors::BACKGROUND;
 use crate::render::offscreen::{render_image, save_png};
 use crate::render::spheres::depth_view;
 use crate::render::{Gpu, RenderError, SphereRenderer, ViewParams};
-use crate::input::JoystickMap;
 use crate::session::{Command, FrameInput, LogWriter, Motion6, Session, SessionLog, Timing};
 
 use hud::HudState;

@@ -72,5 +72,3 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         None => window::run(&cli.files, &cli.window),
     }
 }
-
-

@@ -74,7 +74,11 @@ struct SceneSpec {
 
 impl SceneSpec {
     /// From the command line, falling back on a log's meta values.
-    fn resolve(files: &[PathBuf], a: &WindowArgs, log: Option<(&SessionLog, &Path)>) -> anyhow::Result<Self> {
+    fn resolve(
+        files: &[PathBuf],
+        a: &WindowArgs,
+        log: Option<(&SessionLog, &Path)>,
+    ) -> anyhow::Result<Self> {
         let meta = |k: &str| log.and_then(|(l, _)| l.meta_value(k).map(str::to_string));
         let pick = |cli: &Option<String>, key: &str| cli.clone().or_else(|| meta(key));
         let radii = pick(&a.radii, "radii").unwrap_or_else(|| "bondi".into());
@@ -103,7 +107,10 @@ impl SceneSpec {
     }
 
     fn meta(&self, two_boxes: bool, molecules: &[Molecule]) -> Vec<(String, String)> {
-        let mut m = vec![("bump-version".to_string(), env!("CARGO_PKG_VERSION").to_string())];
+        let mut m = vec![(
+            "bump-version".to_string(),
+            env!("CARGO_PKG_VERSION").to_string(),
+        )];
         for f in &self.files {
             m.push(("file".into(), f.display().to_string()));
         }
@@ -286,7 +293,10 @@ fn headless(
         path.display()
     );
     outln!("{}", done.timing.report(&spec.label()));
-    outln!("contact events (beeps): {new_contacts}; contacts at the end: {}", session.contacts().len());
+    outln!(
+        "contact events (beeps): {new_contacts}; contacts at the end: {}",
+        session.contacts().len()
+    );
     for (k, b) in session.bodies().iter().enumerate() {
         let (t, q) = (b.pose.translation, b.pose.rotation);
         outln!(

@@ -206,7 +206,11 @@ impl Controllers {
     pub fn describe_boxes(&self, map: &JoystickMap) -> Vec<Vec<String>> {
         self.boxes(map)
             .into_iter()
-            .map(|(_, m)| m.iter().map(|&k| self.devices[k].info.name.clone()).collect())
+            .map(|(_, m)| {
+                m.iter()
+                    .map(|&k| self.devices[k].info.name.clone())
+                    .collect()
+            })
             .collect()
     }
 }
@@ -216,7 +220,13 @@ mod tests {
     use super::*;
     use glam::DVec3;
 
-    fn connect(c: &mut Controllers, m: &JoystickMap, id: usize, name: &str, mapped: bool) -> String {
+    fn connect(
+        c: &mut Controllers,
+        m: &JoystickMap,
+        id: usize,
+        name: &str,
+        mapped: bool,
+    ) -> String {
         c.apply(
             m,
             RawEvent::Connected(DeviceInfo {
@@ -273,7 +283,10 @@ mod tests {
         connect(&mut c, &m, 2, "T.16000M translation", false);
         assert_eq!(
             c.describe_boxes(&m),
-            vec![vec!["T.16000M translation".to_string(), "T.16000M rotation".to_string()]]
+            vec![vec![
+                "T.16000M translation".to_string(),
+                "T.16000M rotation".to_string()
+            ]]
         );
         set(&mut c, &m, 2, "LeftStickX", 1.0);
         set(&mut c, &m, 5, "RightZ", 1.0);
@@ -302,9 +315,7 @@ mod tests {
         // Values for unknown devices are ignored quietly.
         set(&mut c, &m, 99, "LeftStickX", 1.0);
         // Unplugging stops its motion; a second unplug says nothing.
-        let msg = c
-            .apply(&m, RawEvent::Disconnected(1))
-            .unwrap();
+        let msg = c.apply(&m, RawEvent::Disconnected(1)).unwrap();
         assert!(msg.contains("disconnected: Pad"));
         assert!(c.apply(&m, RawEvent::Disconnected(1)).is_none());
         assert!(c.intents(&m, false).is_zero());
@@ -317,7 +328,8 @@ mod tests {
     #[test]
     fn a_device_no_profile_fits_is_reported_and_ignored() {
         let mut m = JoystickMap::default();
-        m.profiles.retain(|p| p.fallback != Some(super::super::map::Fallback::Unmapped));
+        m.profiles
+            .retain(|p| p.fallback != Some(super::super::map::Fallback::Unmapped));
         let mut c = Controllers::default();
         let msg = connect(&mut c, &m, 1, "Weird Box", false);
         assert!(msg.contains("ignored"), "{msg}");

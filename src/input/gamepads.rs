@@ -95,7 +95,9 @@ impl Gamepads {
             ),
             Err(e) => (
                 None,
-                Some(format!("joysticks unavailable: {e} (keyboard and mouse only)")),
+                Some(format!(
+                    "joysticks unavailable: {e} (keyboard and mouse only)"
+                )),
             ),
         }
     }

@@ -96,7 +96,9 @@ impl RotationMapping {
         match (role, self, gesture) {
             (_, _, Gesture::X) => 0,
             (Role::Translate, _, Gesture::Y) | (Role::Rotate, Self::Thesis, Gesture::Y) => 1,
-            (Role::Translate, _, Gesture::Twist) | (Role::Rotate, Self::Thesis, Gesture::Twist) => 2,
+            (Role::Translate, _, Gesture::Twist) | (Role::Rotate, Self::Thesis, Gesture::Twist) => {
+                2
+            }
             (Role::Rotate, Self::Users, Gesture::Y) => 2,
             (Role::Rotate, Self::Users, Gesture::Twist) => 1,
         }
@@ -486,7 +488,11 @@ mod tests {
         // Translation is the same in both.
         for m in [t, u] {
             assert_eq!(
-                [m.axis(Translate, X), m.axis(Translate, Y), m.axis(Translate, Twist)],
+                [
+                    m.axis(Translate, X),
+                    m.axis(Translate, Y),
+                    m.axis(Translate, Twist)
+                ],
                 [0, 1, 2]
             );
         }
@@ -503,20 +509,41 @@ mod tests {
         let s = m.translate_speed;
         let w = m.rotate_speed.to_radians();
         assert_eq!(full(&[]), Motion6::ZERO);
-        assert_eq!(full(&[("LeftStickX", 1.0)]).translate, DVec3::new(s, 0.0, 0.0));
-        assert_eq!(full(&[("LeftStickY", -1.0)]).translate, DVec3::new(0.0, -s, 0.0));
+        assert_eq!(
+            full(&[("LeftStickX", 1.0)]).translate,
+            DVec3::new(s, 0.0, 0.0)
+        );
+        assert_eq!(
+            full(&[("LeftStickY", -1.0)]).translate,
+            DVec3::new(0.0, -s, 0.0)
+        );
         // Right trigger pushes away (−z), left pulls closer (+z).
-        assert_eq!(full(&[("RightTrigger2", 1.0)]).translate, DVec3::new(0.0, 0.0, -s));
-        assert_eq!(full(&[("LeftTrigger2", 1.0)]).translate, DVec3::new(0.0, 0.0, s));
+        assert_eq!(
+            full(&[("RightTrigger2", 1.0)]).translate,
+            DVec3::new(0.0, 0.0, -s)
+        );
+        assert_eq!(
+            full(&[("LeftTrigger2", 1.0)]).translate,
+            DVec3::new(0.0, 0.0, s)
+        );
         assert_eq!(
             full(&[("LeftTrigger2", 1.0), ("RightTrigger2", 1.0)]).translate,
             DVec3::ZERO
         );
         // Users' mapping: forward on the rotation stick turns about depth,
         // the shoulder-button twist about the vertical.
-        assert_eq!(full(&[("RightStickY", 1.0)]).rotate, DVec3::new(0.0, 0.0, w));
-        assert_eq!(full(&[("RightTrigger", 1.0)]).rotate, DVec3::new(0.0, w, 0.0));
-        assert_eq!(full(&[("RightStickX", -1.0)]).rotate, DVec3::new(-w, 0.0, 0.0));
+        assert_eq!(
+            full(&[("RightStickY", 1.0)]).rotate,
+            DVec3::new(0.0, 0.0, w)
+        );
+        assert_eq!(
+            full(&[("RightTrigger", 1.0)]).rotate,
+            DVec3::new(0.0, w, 0.0)
+        );
+        assert_eq!(
+            full(&[("RightStickX", -1.0)]).rotate,
+            DVec3::new(-w, 0.0, 0.0)
+        );
         // Inside the dead zone nothing moves; half-way is less than half speed.
         assert_eq!(full(&[("LeftStickX", 0.1)]), Motion6::ZERO);
         let half = full(&[("LeftStickX", 0.5)]).translate.x;
@@ -525,7 +552,10 @@ mod tests {
         let mut thesis = m.clone();
         thesis.rotation = RotationMapping::Thesis;
         let v = values(&[("RightStickY", 1.0)]);
-        assert_eq!(thesis.box_velocity(p, &[&v]).rotate, DVec3::new(0.0, w, 0.0));
+        assert_eq!(
+            thesis.box_velocity(p, &[&v]).rotate,
+            DVec3::new(0.0, w, 0.0)
+        );
     }
 
     #[test]
@@ -548,21 +578,20 @@ mod tests {
     #[test]
     fn bad_maps_are_refused_with_the_reason() {
         let p = Path::new("my.toml");
-        let e = JoystickMap::parse("version = 1\n", p).unwrap_err().to_string();
-        assert!(e.starts_with("my.toml: ") && e.contains("translate_speed"), "{e}");
-        let e = JoystickMap::parse(
-            "version = 2\ntranslate_speed = 1\nrotate_speed = 1\n",
-            p,
-        )
-        .unwrap_err()
-        .to_string();
+        let e = JoystickMap::parse("version = 1\n", p)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("my.toml: ") && e.contains("translate_speed"),
+            "{e}"
+        );
+        let e = JoystickMap::parse("version = 2\ntranslate_speed = 1\nrotate_speed = 1\n", p)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("version 2"), "{e}");
-        let e = JoystickMap::parse(
-            "version = 1\ntranslate_speed = -1\nrotate_speed = 1\n",
-            p,
-        )
-        .unwrap_err()
-        .to_string();
+        let e = JoystickMap::parse("version = 1\ntranslate_speed = -1\nrotate_speed = 1\n", p)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("positive"), "{e}");
         let base = "version = 1\ntranslate_speed = 1\nrotate_speed = 1\n[[profile]]\nname = \"p\"\nfallback = \"mapped\"\nsticks = 1\n";
         let e = JoystickMap::parse(

@@ -63,7 +63,9 @@ pub enum LogError {
         reason: String,
     },
     /// The log ends before its `end` line.
-    #[error("{path}: the log is truncated after line {line} (no `end` line): the recording was cut short")]
+    #[error(
+        "{path}: the log is truncated after line {line} (no `end` line): the recording was cut short"
+    )]
     Truncated {
         /// The file.
         path: PathBuf,
@@ -151,7 +153,12 @@ impl SessionLog {
                     ),
                 ));
             }
-            Some((n, _)) => return Err(err(n, "not a bump session log (no `bump-log` header)".into())),
+            Some((n, _)) => {
+                return Err(err(
+                    n,
+                    "not a bump session log (no `bump-log` header)".into(),
+                ));
+            }
             None => return Err(err(1, "empty file: not a bump session log".into())),
         }
         let mut last = 1;
@@ -176,7 +183,8 @@ impl SessionLog {
                 }
                 "final" => {
                     let body = checked(line).map_err(|r| err(n, r))?;
-                    log.finals.push(parse_final(body, log.finals.len()).map_err(|r| err(n, r))?);
+                    log.finals
+                        .push(parse_final(body, log.finals.len()).map_err(|r| err(n, r))?);
                 }
                 "end" => {
                     let count: usize = rest.trim().parse().map_err(|_| {
@@ -218,8 +226,7 @@ fn checked(line: &str) -> Result<&str, String> {
     let (body, check) = line
         .rsplit_once(" ~")
         .ok_or("the line has no ` ~` check value: it was cut or edited")?;
-    let want = u32::from_str_radix(check, 16)
-        .map_err(|_| format!("bad check value `{check}`"))?;
+    let want = u32::from_str_radix(check, 16).map_err(|_| format!("bad check value `{check}`"))?;
     if fnv1a(body) != want {
         return Err("the line is damaged (its check value does not match)".into());
     }
@@ -632,15 +639,29 @@ mod tests {
         let p = Path::new("x.log");
         assert!(SessionLog::parse("", p).is_err());
         let e = SessionLog::parse("hello\n", p).unwrap_err().to_string();
-        assert!(e.contains("x.log:1") && e.contains("not a bump session log"), "{e}");
-        let e = SessionLog::parse("bump-log 9\nend 0\n", p).unwrap_err().to_string();
+        assert!(
+            e.contains("x.log:1") && e.contains("not a bump session log"),
+            "{e}"
+        );
+        let e = SessionLog::parse("bump-log 9\nend 0\n", p)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("version `9`"), "{e}");
-        for bad in ["f 0.1 v=1,2,3", "f -1", "f 0.1 q=1", "f 0.1 c=fly", "f NaN", "f 0.1 z=inf"] {
+        for bad in [
+            "f 0.1 v=1,2,3",
+            "f -1",
+            "f 0.1 q=1",
+            "f 0.1 c=fly",
+            "f NaN",
+            "f 0.1 z=inf",
+        ] {
             let text = format!("bump-log 1\n{}\nend 1\n", with_check(bad.to_string()));
             let e = SessionLog::parse(&text, p).unwrap_err().to_string();
             assert!(e.starts_with("x.log:2: "), "{bad}: {e}");
         }
-        let e = SessionLog::parse("bump-log 1\nbogus\nend 0\n", p).unwrap_err().to_string();
+        let e = SessionLog::parse("bump-log 1\nbogus\nend 0\n", p)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("x.log:2") && e.contains("bogus"), "{e}");
     }
 
