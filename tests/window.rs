@@ -7,102 +7,23 @@
 //! Needs `Xvfb`, `xdotool` and ImageMagick's `import` (CI installs them);
 //! elsewhere a missing tool skips the test with a message.
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::thread::sleep;
 use std::time::{Duration, Instant};
 
-fn have(tool: &str) -> bool {
-    Command::new("sh")
-        .args(["-c", &format!("command -v {tool}")])
-        .stdout(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
-struct Kill(Child);
-
-impl Drop for Kill {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn xdotool(display: &str, args: &[&str]) -> String {
-    let out = Command::new("xdotool")
-        .args(args)
-        .env("DISPLAY", display)
-        .output()
-        .expect("xdotool");
-    String::from_utf8_lossy(&out.stdout).trim().to_string()
-}
-
-/// Presses `key` `n` times.
-fn taps(display: &str, key: &str, n: usize) {
-    for _ in 0..n {
-        xdotool(display, &["key", "--delay", "20", key]);
-        sleep(Duration::from_millis(30));
-    }
-}
+use common::x11::{screen, taps, xdotool};
 
 #[test]
 fn docking_in_a_real_window_shows_the_hud_and_highlights() {
-    for tool in ["Xvfb", "xdotool", "import"] {
-        if !have(tool) {
-            assert!(
-                std::env::var("CI").as_deref() != Ok("true"),
-                "CI must have {tool} (apt-get install xvfb xdotool imagemagick)"
-            );
-            eprintln!("SKIP: {tool} not installed");
-            return;
-        }
-    }
-    let display = format!(":{}", 50 + std::process::id() % 200);
-    let _xvfb = Kill(
-        Command::new("Xvfb")
-            .args([
-                display.as_str(),
-                "-screen",
-                "0",
-                "1280x800x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("Xvfb"),
-    );
-    sleep(Duration::from_millis(800));
-    let runtime = std::env::temp_dir().join(format!("bump-xdg-{}", std::process::id()));
-    std::fs::create_dir_all(&runtime).expect("runtime dir");
+    let Some(x) = screen(50) else { return };
+    let display = x.display.clone();
+    let runtime = x.runtime.clone();
     let log = runtime.join("bump.log");
-    let mut app = Kill(
-        Command::new(env!("CARGO_BIN_EXE_bump"))
-            .arg("/nonexistent/receptor.pdb")
-            .env("DISPLAY", &display)
-            .env("XDG_RUNTIME_DIR", &runtime)
-            .env_remove("WAYLAND_DISPLAY")
-            .stdout(Stdio::null())
-            .stderr(std::fs::File::create(&log).expect("log"))
-            .spawn()
-            .expect("bump"),
-    );
-    // Wait for the window.
-    let t0 = Instant::now();
-    let wid = loop {
-        let w = xdotool(&display, &["search", "--name", "^bump"]);
-        if let Some(id) = w.lines().next().filter(|s| !s.is_empty()) {
-            break id.to_string();
-        }
-        assert!(t0.elapsed() < Duration::from_secs(60), "no window appeared");
-        sleep(Duration::from_millis(200));
-    };
-    sleep(Duration::from_secs(2)); // first frames (shader compilation on the CPU)
-    // There is no window manager: focus the window, then type real key events.
-    xdotool(&display, &["windowfocus", "--sync", &wid]);
-    sleep(Duration::from_millis(700)); // let the focus change reach the app
+    let mut app = x.launch(&["/nonexistent/receptor.pdb"], &log, Stdio::null());
+    x.window();
     taps(&display, "space", 1); // object mode
     sleep(Duration::from_millis(300));
     taps(&display, "c", 1); // collision on
@@ -176,5 +97,4 @@ fn docking_in_a_real_window_shows_the_hud_and_highlights() {
         assert!(t1.elapsed() < Duration::from_secs(20), "q did not quit");
         sleep(Duration::from_millis(100));
     }
-    let _ = std::fs::remove_dir_all(&runtime);
 }

@@ -2,6 +2,8 @@
 //! molecules and exact (f64) oracles for move-to-touch.
 #![allow(dead_code)]
 
+pub mod x11;
+
 use std::path::PathBuf;
 
 use bump::collide::{Collider, ContactRule, DrugAtoms};

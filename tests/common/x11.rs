@@ -1,0 +1,146 @@
+//! Real-window helpers: an Xvfb server, xdotool, processes killed on drop.
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::thread::sleep;
+use std::time::{Duration, Instant};
+
+/// Whether a command is on the PATH.
+pub fn have(tool: &str) -> bool {
+    Command::new("sh")
+        .args(["-c", &format!("command -v {tool}")])
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+/// A child process killed when dropped.
+pub struct Kill(pub Child);
+
+impl Drop for Kill {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Runs xdotool on `display`, returning its output.
+pub fn xdotool(display: &str, args: &[&str]) -> String {
+    let out = Command::new("xdotool")
+        .args(args)
+        .env("DISPLAY", display)
+        .output()
+        .expect("xdotool");
+    String::from_utf8_lossy(&out.stdout).trim().to_string()
+}
+
+/// Presses `key` `n` times.
+pub fn taps(display: &str, key: &str, n: usize) {
+    for _ in 0..n {
+        xdotool(display, &["key", "--delay", "20", key]);
+        sleep(Duration::from_millis(30));
+    }
+}
+
+/// A running Xvfb and a runtime folder for the program.
+pub struct Screen {
+    /// `:N`.
+    pub display: String,
+    /// XDG_RUNTIME_DIR for the program; logs and screenshots go here.
+    pub runtime: PathBuf,
+    _xvfb: Kill,
+}
+
+impl Drop for Screen {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.runtime);
+    }
+}
+
+/// Starts Xvfb on a display derived from `offset` and the process id, or
+/// `None` (with a message; a failure under CI) when a tool is missing.
+pub fn screen(offset: u32) -> Option<Screen> {
+    for tool in ["Xvfb", "xdotool", "import"] {
+        if !have(tool) {
+            assert!(
+                std::env::var("CI").as_deref() != Ok("true"),
+                "CI must have {tool} (apt-get install xvfb xdotool imagemagick)"
+            );
+            eprintln!("SKIP: {tool} not installed");
+            return None;
+        }
+    }
+    let display = format!(":{}", offset + std::process::id() % 200);
+    let xvfb = Kill(
+        Command::new("Xvfb")
+            .args([
+                display.as_str(),
+                "-screen",
+                "0",
+                "1280x800x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb"),
+    );
+    sleep(Duration::from_millis(800));
+    let runtime = std::env::temp_dir().join(format!("bump-xdg-{offset}-{}", std::process::id()));
+    std::fs::create_dir_all(&runtime).expect("runtime dir");
+    Some(Screen {
+        display,
+        runtime,
+        _xvfb: xvfb,
+    })
+}
+
+impl Screen {
+    /// Starts `bump` with `args` on this screen; stderr goes to `log`.
+    pub fn launch(&self, args: &[&str], log: &std::path::Path, stdout: Stdio) -> Kill {
+        Kill(
+            Command::new(env!("CARGO_BIN_EXE_bump"))
+                .args(args)
+                .env("DISPLAY", &self.display)
+                .env("XDG_RUNTIME_DIR", &self.runtime)
+                .env_remove("WAYLAND_DISPLAY")
+                .stdout(stdout)
+                .stderr(std::fs::File::create(log).expect("log"))
+                .spawn()
+                .expect("bump"),
+        )
+    }
+
+    /// Waits for a window titled `bump…`, focuses it and returns its id.
+    pub fn window(&self) -> String {
+        let t0 = Instant::now();
+        let wid = loop {
+            let w = xdotool(&self.display, &["search", "--name", "^bump"]);
+            if let Some(id) = w.lines().next().filter(|s| !s.is_empty()) {
+                break id.to_string();
+            }
+            assert!(t0.elapsed() < Duration::from_secs(60), "no window appeared");
+            sleep(Duration::from_millis(200));
+        };
+        sleep(Duration::from_secs(2)); // first frames (shader compilation on the CPU)
+        // There is no window manager: focus the window, then type real key events.
+        xdotool(&self.display, &["windowfocus", "--sync", &wid]);
+        sleep(Duration::from_millis(700)); // let the focus change reach the app
+        wid
+    }
+}
+
+/// Waits up to `secs` for `child` to exit; its exit status.
+pub fn wait_exit(child: &mut Kill, secs: u64) -> Option<std::process::ExitStatus> {
+    let t0 = Instant::now();
+    loop {
+        if let Some(status) = child.0.try_wait().expect("wait") {
+            return Some(status);
+        }
+        if t0.elapsed() > Duration::from_secs(secs) {
+            return None;
+        }
+        sleep(Duration::from_millis(100));
+    }
+}
