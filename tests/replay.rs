@@ -5,6 +5,9 @@
 //! named; and the shipped session (trimethoprim docked into DHFR) replays
 //! with every collider without an overlapping pose.
 
+// A test that fails on an unexpected error may just unwrap.
+#![allow(clippy::unwrap_used)]
+
 mod common;
 
 use std::path::{Path, PathBuf};

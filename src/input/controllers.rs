@@ -1,7 +1,7 @@
 //! The connected controllers and what they ask for, from a stream of raw
 //! events: connect, disconnect, an axis or button value.
 //!
-//! The device layer ([`super::gamepads`], gilrs) only translates its events
+//! The device layer ([`super::gamepads`]) only translates its events
 //! into [`RawEvent`]s; everything after that is here and pure, so tests drive
 //! it with synthetic streams. Devices are kept in id order and grouped into
 //! boxes by their profile (a gamepad is a box, flight sticks pair up); each
@@ -18,11 +18,11 @@ use crate::session::{FrameInput, Motion6};
 /// A device as the device layer describes it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DeviceInfo {
-    /// Stable id for the session (gilrs's gamepad id).
+    /// Stable id for the session (the device layer's id).
     pub id: usize,
     /// The device's name.
     pub name: String,
-    /// gilrs knows it as a gamepad (SDL mapping or a driver mapping with
+    /// The device layer knows it as a gamepad (SDL mapping or a driver mapping with
     /// both sticks).
     pub mapped: bool,
 }
@@ -34,7 +34,7 @@ pub enum RawEvent {
     Connected(DeviceInfo),
     /// A device went away.
     Disconnected(usize),
-    /// An axis or button changed: `source` is a gilrs name or `code:N`.
+    /// An axis or button changed: `source` is a standard name or `code:N`.
     Value {
         /// Device id.
         device: usize,
@@ -217,6 +217,8 @@ impl Controllers {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
     use super::*;
     use glam::DVec3;
 

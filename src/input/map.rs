@@ -3,9 +3,9 @@
 //!
 //! A map is read from TOML (the default is `assets/joystick-map.toml`,
 //! compiled in). Each *profile* says which devices it applies to (by name, or
-//! as the fallback for gamepads gilrs maps / devices it does not), how many
+//! as the fallback for devices the device layer maps as gamepads, or not), how many
 //! devices make one *box* (a gamepad is a box; flight sticks pair up), and
-//! its *bindings*: a source axis (a gilrs name or a raw `code:N`) feeding one
+//! its *bindings*: a source axis (a standard name like `LeftStickX` or a raw `code:N`) feeding one
 //! gesture (x, y, twist) of the translation or rotation stick. A raw value
 //! goes through the dead zone and response curve ([`Shape::apply`]), then the
 //! rotation mapping ([`RotationMapping`]) picks the axis it turns about, and
@@ -165,7 +165,7 @@ pub struct Binding {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Fallback {
-    /// Devices gilrs maps as gamepads.
+    /// Devices the device layer maps as gamepads.
     Mapped,
     /// Devices it does not.
     Unmapped,
@@ -338,7 +338,7 @@ impl JoystickMap {
                         b.source, shape.dead_zone
                     )));
                 }
-                if !(shape.curve.is_finite() && shape.curve > 0.0) || !shape.scale.is_finite() {
+                if !(shape.curve.is_finite() && shape.curve > 0.0 && shape.scale.is_finite()) {
                     return Err(here(format!(
                         "curve (> 0) or scale of `{}` is out of range",
                         b.source
@@ -416,6 +416,8 @@ impl JoystickMap {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
     use super::*;
 
     fn values(pairs: &[(&str, f64)]) -> BTreeMap<String, f64> {

@@ -531,6 +531,8 @@ pub fn to_text(log: &SessionLog) -> String {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
     use super::*;
 
     fn sample() -> SessionLog {
