@@ -651,3 +651,49 @@ fn fly_in(molecules: &[Molecule], settings: Settings, way_out: &[Pose]) -> Optio
     }
     Some(frames)
 }
+
+#[test]
+fn the_same_stick_moves_along_screen_axes_or_the_molecules_own() {
+    let map = JoystickMap::default();
+    let mut c = Controllers::default();
+    c.apply(&map, pad(1, "Pad"));
+    c.apply(&map, axis(1, "LeftStickX", 1.0));
+    let push = |s: &mut Session| {
+        let before = s.bodies()[1].pose.translation;
+        let mut input = FrameInput::default();
+        c.intents(&map, false).add_to(&mut input);
+        s.step(&input, 0.1);
+        (s.bodies()[1].pose.translation - before).normalize()
+    };
+    let mut s = builtin_session(ColliderKind::Hashed);
+    // Object mode; the E turned 90° about the world's y axis.
+    s.step(
+        &FrameInput {
+            commands: vec![
+                Command::ToggleMode,
+                Command::MoveBy {
+                    translate: DVec3::ZERO,
+                    axis: DVec3::Y,
+                    degrees: 90.0,
+                },
+            ],
+            ..FrameInput::default()
+        },
+        DT,
+    );
+    let screen_x = s.camera().rotation.conjugate() * DVec3::X;
+    assert!(push(&mut s).dot(screen_x) > 1.0 - 1e-9);
+    s.step(
+        &FrameInput {
+            commands: vec![Command::ToggleSpace],
+            ..FrameInput::default()
+        },
+        DT,
+    );
+    let own_x = s.bodies()[1].pose.rotation * DVec3::X;
+    assert!(push(&mut s).dot(own_x) > 1.0 - 1e-9);
+    assert!(
+        own_x.dot(screen_x).abs() < 0.99,
+        "the test needs distinct axes"
+    );
+}
