@@ -90,8 +90,6 @@ pub struct Options {
     pub record: Option<LogWriter>,
     /// Replay this log instead of live input, then quit.
     pub play: Option<SessionLog>,
-    /// What the timing report names (collider, method).
-    pub report_label: String,
 }
 
 /// What a window session did, for the caller to report.
@@ -445,6 +443,15 @@ impl App {
     }
 
     fn open_file(&mut self, path: PathBuf) {
+        if self.recorder.is_some() || self.player.is_some() {
+            // A log replays inputs on a fixed scene; a file opened now would
+            // not be in it.
+            self.hud.say(format!(
+                "{}: opening files is off while recording or replaying",
+                path.display()
+            ));
+            return;
+        }
         let opts = LoadOptions::default();
         let loaded = model::load(&path, &opts).and_then(|l| {
             let m = model::receptor_only(&l.structure)?;

@@ -234,7 +234,6 @@ pub fn run(files: &[PathBuf], a: &WindowArgs) -> anyhow::Result<()> {
             rumble: false,
             record: None,
             play: Some(log.clone()),
-            report_label: spec.label(),
         };
         let ended = bump::app::run(session, Vec::new(), None, options)?;
         report_window(&ended, &spec, Some((log, path)));
@@ -246,7 +245,6 @@ pub fn run(files: &[PathBuf], a: &WindowArgs) -> anyhow::Result<()> {
         rumble: !a.no_rumble,
         record,
         play: None,
-        report_label: spec.label(),
     };
     if let Some(path) = &a.record {
         let molecules = spec.load_all()?;
