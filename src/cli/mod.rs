@@ -7,6 +7,7 @@ macro_rules! outln {
     ($($arg:tt)*) => { $crate::cli::write_line(format_args!($($arg)*)) };
 }
 
+mod bench;
 mod check;
 mod render;
 mod report;
@@ -49,6 +50,8 @@ enum Command {
     Stats(stats::StatsArgs),
     /// Draw the scene offscreen to a PNG (no window needed).
     Render(render::RenderArgs),
+    /// The benchmark report: run time against error, scaling, Table 1, frame costs.
+    Bench(bench::BenchArgs),
 }
 
 /// Writes one line to stdout; exits 0 on a broken pipe, 2 on any other error.
@@ -71,6 +74,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Touch(a)) => touch::run(&a),
         Some(Command::Stats(a)) => stats::run(&a),
         Some(Command::Render(a)) => render::run(&a),
+        Some(Command::Bench(a)) => bench::run(&a),
         None => window(&cli),
     }
 }
