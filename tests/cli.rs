@@ -223,3 +223,47 @@ fn without_a_display_the_window_fails_cleanly() {
         "{e}"
     );
 }
+
+#[test]
+fn bench_writes_a_report_with_figures_and_keeps_the_manual_sections() {
+    let dir = std::env::temp_dir().join(format!("bump-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let out = dir.join("report.md");
+    let marker = "<!-- Sections below are kept as they are by `bump bench`. -->";
+    std::fs::write(&out, format!("old generated text\n{marker}\n## Hand-measured\nkeep me\n"))
+        .expect("write");
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb");
+    let run = bump(&[
+        "bench",
+        "--quick",
+        "--queries",
+        "4",
+        "--reps",
+        "1",
+        "--data",
+        data,
+        "--out",
+        out.to_str().expect("utf-8 path"),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let text = std::fs::read_to_string(&out).expect("report");
+    assert!(!text.contains("old generated text"));
+    assert!(text.ends_with(&format!("{marker}\n## Hand-measured\nkeep me\n")));
+    for heading in [
+        "## Summary",
+        "## Run time against error",
+        "built-in E into the triple ring",
+        "## Skip what a scene doesn't need",
+        "Machine: ",
+    ] {
+        assert!(text.contains(heading), "missing {heading}");
+    }
+    let svg = std::fs::read_to_string(dir.join("bench/time_vs_error.svg")).expect("figure");
+    assert!(svg.starts_with("<svg") && svg.contains("swept (hashed)"));
+    if common::shared_pdb().is_some() {
+        assert!(text.contains("trimethoprim into DHFR") && text.contains("| 1rx1.pdb | 1317 |"));
+        assert!(dir.join("bench/scaling.svg").is_file());
+    }
+    assert!(stderr(&run).contains("[#"), "no progress bar");
+    std::fs::remove_dir_all(&dir).ok();
+}

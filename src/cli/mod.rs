@@ -7,6 +7,7 @@ macro_rules! outln {
     ($($arg:tt)*) => { $crate::cli::write_line(format_args!($($arg)*)) };
 }
 
+mod bench;
 mod check;
 mod devices;
 mod render;
@@ -46,6 +47,8 @@ enum Command {
     Render(render::RenderArgs),
     /// List joysticks and gamepads and show their raw axes live.
     Devices(devices::DevicesArgs),
+    /// The benchmark report: run time against error, scaling, Table 1, frame costs.
+    Bench(bench::BenchArgs),
 }
 
 /// Writes one line to stdout; exits 0 on a broken pipe, 2 on any other error.
@@ -69,6 +72,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Stats(a)) => stats::run(&a),
         Some(Command::Render(a)) => render::run(&a),
         Some(Command::Devices(a)) => devices::run(&a),
+        Some(Command::Bench(a)) => bench::run(&a),
         None => window::run(&cli.files, &cli.window),
     }
 }

@@ -4,11 +4,13 @@
 //! (brute force, full grid or hashed grid); [`mod@check`] answers static queries;
 //! [`sweep`] moves the drug to touch without tunnelling; [`response`] turns a
 //! proposed step into the session's answer (stop, touch, slide, pass);
-//! [`stats`] measures grid occupancy (the thesis's Table 1).
+//! [`stats`] measures grid occupancy (the thesis's Table 1); [`oracle`] gives
+//! exact f64 answers to measure move-to-touch against.
 
 pub mod check;
 pub mod collider;
 pub mod drug;
+pub mod oracle;
 pub mod response;
 pub mod rule;
 pub mod stats;

@@ -4,5 +4,5 @@
 pub mod pose;
 pub mod screw;
 
-pub use pose::Pose;
+pub use pose::{MAX_COORDINATE, Pose};
 pub use screw::Screw;

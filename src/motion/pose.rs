@@ -10,6 +10,13 @@
 use glam::{DQuat, DVec3};
 use serde::Serialize;
 
+/// Largest coordinate a pose may reach, Å. Collision math runs in the
+/// receptor's frame, so a far scene enters only through one f64 composition
+/// of world poses, whose rounding is |x|·2⁻⁵² ≈ 2·10⁻⁷ Å at 10⁹ Å: still far
+/// below the f32 rounding of atom coordinates (10⁻⁶ Å) and the touch
+/// tolerance (10⁻³ Å). Beyond it the session refuses to move a molecule.
+pub const MAX_COORDINATE: f64 = 1e9;
+
 /// Rotation (unit quaternion) and translation, both f64.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose {
@@ -89,6 +96,11 @@ impl Pose {
     /// True when every component is finite.
     pub fn is_finite(&self) -> bool {
         self.rotation.is_finite() && self.translation.is_finite()
+    }
+
+    /// True when the centre is within [`MAX_COORDINATE`] of the origin on every axis.
+    pub fn within_range(&self) -> bool {
+        self.translation.abs().max_element() <= MAX_COORDINATE
     }
 
     /// The rotation as a unit axis and an angle in degrees in [0, 180].

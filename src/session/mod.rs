@@ -533,9 +533,14 @@ impl Session {
     }
 
     fn select(&mut self, n: usize, out: &mut FrameOutcome) {
+        // The environment holds the other molecules' poses, which change only
+        // while one of them is selected: re-selecting the selected molecule
+        // (a click on it) keeps it instead of rebuilding its collider.
+        if n != self.selected {
+            self.env = None;
+        }
         self.selected = n;
         self.history.close();
-        self.env = None;
         self.refresh_contacts(out);
     }
 
@@ -605,6 +610,13 @@ impl Session {
         let b = self.selected;
         let from = self.bodies[b].pose;
         let to = from.moved(translate, axis, angle);
+        if !to.within_range() {
+            out.messages.push(format!(
+                "refused: a molecule may not move more than {:e} Å from the origin",
+                crate::motion::MAX_COORDINATE
+            ));
+            return;
+        }
         if !self.settings.collision {
             self.bodies[b].pose = to;
             self.history.record(b, from, to);

@@ -1,12 +1,12 @@
 //! Shared helpers for the integration tests: test data location, random
-//! molecules and exact (f64) oracles for move-to-touch.
+//! molecules and the exact (f64) oracles of `bump::collide::oracle`.
 #![allow(dead_code)]
 
 pub mod x11;
 
 use std::path::PathBuf;
 
-use bump::collide::{Collider, ContactRule, DrugAtoms};
+use bump::collide::{Collider, ContactRule, DrugAtoms, oracle};
 use bump::model::{AtomInfo, Molecule};
 use bump::motion::{Pose, Screw};
 use glam::DVec3;
@@ -105,9 +105,7 @@ pub fn contact(rule: &ContactRule, a: &AtomInfo, b: &AtomInfo) -> f64 {
 }
 
 /// Exact time of impact for a pure translation `d` of the drug from relative
-/// pose `start`: per pair the smaller root of `|x + t d − q|² = c²`, in f64.
-/// Pairs already colliding at the start are skipped. Returns `None` when no
-/// pair touches in [0, 1].
+/// pose `start` ([`bump::collide::oracle::translation_toi`]).
 pub fn exact_translation_toi(
     rule: &ContactRule,
     receptor: &Molecule,
@@ -115,55 +113,20 @@ pub fn exact_translation_toi(
     start: &Pose,
     d: DVec3,
 ) -> Option<f64> {
-    let mut best: Option<f64> = None;
-    let dd = d.length_squared();
-    if dd == 0.0 {
-        return None;
-    }
-    for (i, b) in drug.atoms.iter().enumerate() {
-        let x = start.transform_point(drug.local[i].as_dvec3());
-        for (j, a) in receptor.atoms.iter().enumerate() {
-            let c = contact(rule, a, b);
-            let q = receptor.local[j].as_dvec3();
-            let w = x - q;
-            let cc = w.length_squared() - c * c;
-            if cc <= 0.0 {
-                continue;
-            }
-            let bb = w.dot(d);
-            let disc = bb * bb - dd * cc;
-            if bb >= 0.0 || disc < 0.0 {
-                continue;
-            }
-            let t = cc / (-bb + disc.sqrt());
-            if t <= 1.0 && best.is_none_or(|b| t < b) {
-                best = Some(t);
-            }
-        }
-    }
-    best
+    oracle::translation_toi(rule, receptor, drug, start, d)
 }
 
-/// True when any pair collides (f64) at time `t` of the screw.
+/// True when any pair collides (f64) at `pose`.
 pub fn collides_f64(rule: &ContactRule, receptor: &Molecule, drug: &Molecule, pose: &Pose) -> bool {
     min_gap_f64(rule, receptor, drug, pose) <= 0.0
 }
 
 /// Smallest `d − c` over all pairs (f64).
 pub fn min_gap_f64(rule: &ContactRule, receptor: &Molecule, drug: &Molecule, pose: &Pose) -> f64 {
-    let mut g = f64::INFINITY;
-    for (i, b) in drug.atoms.iter().enumerate() {
-        let x = pose.transform_point(drug.local[i].as_dvec3());
-        for (j, a) in receptor.atoms.iter().enumerate() {
-            let d = (x - receptor.local[j].as_dvec3()).length();
-            g = g.min(d - contact(rule, a, b));
-        }
-    }
-    g
+    oracle::min_gap(rule, receptor, drug, pose)
 }
 
-/// First contact time along the screw by dense f64 sampling (`samples`
-/// steps) then bisection to 1e-12 — the reference for rotations.
+/// First contact time along the screw by dense f64 sampling then bisection.
 pub fn dense_screw_toi(
     rule: &ContactRule,
     receptor: &Molecule,
@@ -171,25 +134,7 @@ pub fn dense_screw_toi(
     screw: &Screw,
     samples: usize,
 ) -> Option<f64> {
-    let hit = |t: f64| collides_f64(rule, receptor, drug, &screw.pose_at(t));
-    let mut prev = 0.0;
-    for k in 1..=samples {
-        let t = k as f64 / samples as f64;
-        if hit(t) {
-            let (mut lo, mut hi) = (prev, t);
-            while hi - lo > 1e-12 {
-                let mid = 0.5 * (lo + hi);
-                if hit(mid) {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
-            return Some(hi);
-        }
-        prev = t;
-    }
-    None
+    oracle::dense_screw_toi(rule, receptor, drug, screw, samples)
 }
 
 /// Largest atom speed of a screw (Å per unit t) for the drug at its start.

@@ -1,0 +1,419 @@
+//! Numerical stress: many seeded random move-to-touch queries checked against
+//! exact answers, scenes far from the origin, long sessions, extreme steps.
+//!
+//! Bounded for CI: 10⁵ random queries by default; `BUMP_STRESS=full` runs
+//! 10⁷ (and a number, e.g. `BUMP_STRESS=2000000`, runs that many).
+//!
+//! References (`bump::collide::oracle`, all f64 over every pair): the
+//! closed-form time of impact for translations, and for screw motions a
+//! Lipschitz certificate that no pose on the allowed part of the path
+//! overlaps (it cannot miss a thin wall). Counts and worst cases are printed
+//! (`--nocapture`).
+
+mod common;
+
+use bump::collide::oracle::{certify_free_path, min_gap, translation_toi};
+use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, TouchOptions, move_to_touch};
+use bump::model::{Molecule, RadiiSet, builtin};
+use bump::motion::{Pose, Screw};
+use bump::session::{Command, FrameInput, Motion6, Session, Settings};
+use common::*;
+use glam::{DMat3, DQuat, DVec3};
+
+const TOL: f64 = 1e-3;
+
+/// How many random queries: 10⁵, or what `BUMP_STRESS` asks for.
+fn query_count() -> usize {
+    match std::env::var("BUMP_STRESS").as_deref() {
+        Ok("full") => 10_000_000,
+        Ok(n) => n.parse().unwrap_or(100_000),
+        Err(_) => 100_000,
+    }
+}
+
+/// A random start outside the receptor (gap ≥ 0.01 Å) and a motion towards it.
+fn random_query(rng: &mut Rng, rule: &ContactRule, r: &Molecule, d: &Molecule) -> (Pose, Pose) {
+    loop {
+        let dir = rng.unit();
+        let start = Pose::new(
+            DQuat::from_axis_angle(rng.unit(), rng.range(0.0, 3.1)),
+            dir * rng.range(6.0, 16.0),
+        );
+        if min_gap(rule, r, d, &start) < 0.01 {
+            continue;
+        }
+        // Step lengths from 10⁻³ to 10² Å (log-uniform), aimed at the receptor
+        // with some scatter; every other query also turns (up to ±2 rad).
+        let len = 10f64.powf(rng.range(-3.0, 2.0));
+        let travel = (-dir + rng.unit() * 0.4).normalize() * len;
+        let (axis, angle) = if rng.next_u64() % 2 == 0 {
+            (rng.unit(), rng.range(-2.0, 2.0))
+        } else {
+            (DVec3::X, 0.0)
+        };
+        return (start, start.moved(travel, axis, angle));
+    }
+}
+
+#[test]
+fn random_queries_never_overlap_tunnel_or_give_nan() {
+    let n = query_count();
+    let rule = ContactRule::default();
+    let mut rng = Rng(0x57e55);
+    let per_scene = 250;
+    let (mut hits, mut screws, mut evals) = (0usize, 0usize, 0usize);
+    let (mut worst_gap, mut min_stop_gap, mut worst_short) = (0.0f64, f64::INFINITY, 0.0f64);
+    let mut done = 0;
+    let mut scene = 0usize;
+    while done < n {
+        // A fresh small scene: 60 receptor atoms in a 14 Å cube, 5 drug atoms.
+        let polar = scene % 2 == 0;
+        let receptor = random_molecule(&mut rng, 60, 14.0, DVec3::ZERO, polar);
+        let drug = random_molecule(&mut rng, 5, 4.0, DVec3::ZERO, polar);
+        let kind = ColliderKind::ALL[scene % 3];
+        scene += 1;
+        let col = Collider::build(&receptor, &rule, kind);
+        let atoms = DrugAtoms::new(&drug, &rule, col.max_radius());
+        for _ in 0..per_scene.min(n - done) {
+            done += 1;
+            let (start, end) = random_query(&mut rng, &rule, &receptor, &drug);
+            let r = move_to_touch(&col, &atoms, &start, &end, &TouchOptions::default());
+            let ctx = || format!("query {done} ({kind:?}): {start:?} -> {end:?}, t = {}", r.t);
+            assert!(r.t.is_finite() && (0.0..=1.0).contains(&r.t), "{}", ctx());
+            assert!(r.pose.is_finite(), "{}", ctx());
+            let g = min_gap(&rule, &receptor, &drug, &r.pose);
+            assert!(g > 0.0, "overlap {g} Å: {}", ctx());
+            let screw = Screw::between(start, end);
+            if screw.is_translation() {
+                // Never past the exact first contact, never short of it by
+                // more than the tolerance allows.
+                let d = end.translation - start.translation;
+                match translation_toi(&rule, &receptor, &drug, &start, d) {
+                    None => assert_eq!(r.t, 1.0, "free path not taken: {}", ctx()),
+                    Some(te) => {
+                        assert!(r.t <= te, "tunnelled past t = {te}: {}", ctx());
+                        worst_short = worst_short.max((te - r.t) * d.length());
+                    }
+                }
+            } else {
+                screws += 1;
+                match certify_free_path(&rule, &receptor, &drug, &screw, r.t) {
+                    Ok(e) => evals += e,
+                    Err(f) => panic!("tunnelled: gap {} at t = {}: {}", f.gap, f.t, ctx()),
+                }
+            }
+            if r.t < 1.0 {
+                hits += 1;
+                assert!(g <= TOL + 1e-6, "stopped {g} Å short of contact: {}", ctx());
+                assert!(!r.contacts.is_empty(), "{}", ctx());
+                worst_gap = worst_gap.max(g);
+                min_stop_gap = min_stop_gap.min(g);
+            }
+        }
+    }
+    println!(
+        "{n} random queries ({screws} screws, {hits} stopped at a contact, {scene} scenes): \
+         none overlapped, tunnelled or gave NaN; gap at the stop in [{min_stop_gap:.2e}, {worst_gap:.2e}] Å; \
+         worst travel short of the exact contact (translations) {worst_short:.2e} Å; \
+         {:.1} certificate evaluations per screw",
+        evals as f64 / screws.max(1) as f64
+    );
+    assert!(hits > n / 5 && screws > n / 3);
+}
+
+/// The angle between two rotations, accurate for tiny angles (unlike
+/// `acos` of the dot product).
+fn angle(a: DQuat, b: DQuat) -> f64 {
+    let r = a * b.conjugate();
+    let v = DVec3::new(r.x, r.y, r.z).length();
+    2.0 * v.atan2(r.w.abs())
+}
+
+/// `m` with every position moved by `offset`.
+fn shifted(m: &Molecule, offset: DVec3) -> Molecule {
+    let pos: Vec<DVec3> = m.file_positions().iter().map(|p| *p + offset).collect();
+    Molecule::new(m.name.clone(), m.atoms.clone(), &pos)
+}
+
+fn commands(c: &[Command]) -> FrameInput {
+    FrameInput {
+        commands: c.to_vec(),
+        ..FrameInput::default()
+    }
+}
+
+/// The built-in scene (rings, E) moved by `offset`, object mode, collision on.
+fn builtin_session(offset: DVec3) -> Session {
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    let mut s = Session::new(
+        vec![shifted(&rings, offset), shifted(&e, offset)],
+        Settings::default(),
+    )
+    .expect("session");
+    s.step(
+        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        0.0,
+    );
+    s
+}
+
+/// Smallest f64 gap between the E (body 1) and the rings (body 0).
+fn e_gap(s: &Session) -> f64 {
+    let b = s.bodies();
+    let rel = b[0].pose.inverse().compose(&b[1].pose);
+    min_gap(
+        &s.settings().rule,
+        &b[0].molecule,
+        &b[1].molecule,
+        &rel,
+    )
+}
+
+fn move_by(translate: DVec3, axis: DVec3, degrees: f64) -> FrameInput {
+    commands(&[Command::MoveBy {
+        translate,
+        axis,
+        degrees,
+    }])
+}
+
+/// Positions are compared to this, Å: a few f32 roundings of a 10 Å local
+/// coordinate (the molecules' atoms are stored in f32 relative to their
+/// centre; a far offset can move one rounding by one unit).
+const FAR_TOLERANCE: f64 = 1e-4;
+
+#[test]
+fn a_scene_far_from_the_origin_gives_the_same_answers() {
+    // A scripted docking session: pushes into the rings, turns, slides.
+    let mut rng = Rng(0xfa5);
+    let mut script = Vec::new();
+    script.push(move_by(DVec3::new(0.0, 0.0, 25.0), DVec3::Z, 0.0)); // dock
+    for k in 0..300 {
+        if k == 150 {
+            script.push(commands(&[Command::SetResponse(
+                bump::collide::Response::Slide,
+            )]));
+        }
+        let t = rng.unit() * rng.range(0.0, 3.0);
+        let (axis, deg) = (rng.unit(), rng.range(-15.0, 15.0));
+        script.push(move_by(t, axis, deg));
+    }
+    let run = |offset: DVec3| -> Vec<(DVec3, DQuat, f64, usize)> {
+        let mut s = builtin_session(offset);
+        let mut out = Vec::new();
+        for f in &script {
+            let o = s.step(f, 0.0);
+            let p = s.bodies()[1].pose;
+            assert!(e_gap(&s) > 0.0, "overlap at offset {offset}");
+            let robust = o
+                .contacts
+                .iter()
+                .filter(|c| f64::from(c.gap()) < TOL - FAR_TOLERANCE)
+                .count();
+            out.push((p.translation - offset, p.rotation, o.t, robust));
+        }
+        out
+    };
+    let base = run(DVec3::ZERO);
+    let touched = base.iter().filter(|f| f.2 < 1.0).count();
+    assert!(touched > 50, "the script should touch often ({touched})");
+    for scale in [1e3, 1e5, 1e7] {
+        let offset = DVec3::new(1.0, -1.0, 1.0) * scale;
+        let far = run(offset);
+        let (mut dp, mut dq) = (0.0f64, 0.0f64);
+        for (k, (a, b)) in base.iter().zip(&far).enumerate() {
+            dp = dp.max((a.0 - b.0).length());
+            dq = dq.max(angle(a.1, b.1));
+            assert_eq!(a.3, b.3, "offset {scale:e}, frame {k}: contacts differ");
+        }
+        println!("offset {scale:e} Å: worst position difference {dp:.2e} Å, rotation {dq:.2e} rad");
+        assert!(dp < FAR_TOLERANCE, "offset {scale:e}: positions differ by {dp}");
+        assert!(dq < 1e-9, "offset {scale:e}: rotations differ by {dq}");
+    }
+}
+
+#[test]
+fn moves_beyond_the_supported_range_are_refused() {
+    let edge = bump::motion::MAX_COORDINATE;
+    let mut s = builtin_session(DVec3::new(edge - 1e3, 0.0, 0.0));
+    let before = s.bodies()[1].pose;
+    // Within range, even out here: docking works and stops at the rings.
+    let o = s.step(&move_by(DVec3::new(0.0, 5.0, 0.0), DVec3::Z, 0.0), 0.0);
+    assert!(o.moved && o.messages.is_empty());
+    let o = s.step(&move_by(DVec3::new(0.0, 0.0, 30.0), DVec3::Z, 0.0), 0.0);
+    assert!(o.t < 1.0 && e_gap(&s) > 0.0);
+    // A step past the edge is refused, with a message, and nothing moves.
+    let here = s.bodies()[1].pose;
+    let o = s.step(&move_by(DVec3::new(2e3, 0.0, 0.0), DVec3::Z, 0.0), 0.0);
+    assert!(!o.moved && o.messages.iter().any(|m| m.contains("refused")));
+    assert_eq!(s.bodies()[1].pose, here);
+    assert_ne!(here, before);
+}
+
+#[test]
+fn a_million_small_turns_keep_the_drug_rigid() {
+    let mut s = builtin_session(DVec3::ZERO);
+    // Far from the rings, so every turn is free (but still a collision query).
+    s.step(&move_by(DVec3::new(0.0, 0.0, -100.0), DVec3::Z, 0.0), 0.0);
+    let q0 = s.bodies()[1].pose;
+    let axis = DVec3::new(1.0, 2.0, 3.0).normalize();
+    let step = 1e-3; // rad per frame
+    let frame = FrameInput {
+        nudge: Motion6 {
+            translate: DVec3::ZERO,
+            rotate: axis * step,
+        },
+        ..FrameInput::default()
+    };
+    let n = 1_000_000;
+    let mut queries = 0;
+    for _ in 0..n {
+        let o = s.step(&frame, 0.016);
+        queries += usize::from(o.collision_us.is_some());
+        assert!(o.t == 1.0);
+    }
+    let p = s.bodies()[1].pose;
+    let local = &s.bodies()[1].molecule.local;
+    // Unit quaternion, orthonormal matrix.
+    assert!((p.rotation.length() - 1.0).abs() < 1e-12);
+    let m = DMat3::from_quat(p.rotation);
+    let err = (m.transpose() * m - DMat3::IDENTITY)
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |a, v| a.max(v.abs()));
+    assert!(err < 1e-12, "RᵀR − I = {err}");
+    // The centre did not move; the total turn is n·step about the axis.
+    assert_eq!(p.translation, q0.translation);
+    let expected = (DQuat::from_axis_angle(axis, n as f64 * step) * q0.rotation).normalize();
+    let drift = angle(p.rotation, expected);
+    // Internal distances, from world positions, unchanged to 1e-9 relative.
+    let mut worst = 0.0f64;
+    for i in 0..local.len() {
+        for j in (i + 1)..local.len() {
+            let d0 = (local[i] - local[j]).as_dvec3().length();
+            let xi = p.transform_point(local[i].as_dvec3());
+            let xj = p.transform_point(local[j].as_dvec3());
+            worst = worst.max(((xi - xj).length() - d0).abs() / d0);
+        }
+    }
+    println!(
+        "{n} turns of {step} rad: |RᵀR − I| {err:.1e}, angle drift {drift:.1e} rad, \
+         internal distances {worst:.1e} relative, {queries} collision queries"
+    );
+    assert!(worst < 1e-9, "distances changed by {worst} relative");
+    assert!(drift < 1e-9, "rotation drifted {drift} rad from n·step");
+    assert_eq!(queries, n);
+}
+
+/// Pushes the docked E sideways into the rings for `frames` frames and checks
+/// that once it touches it neither moves (jitter, creep) nor leaves.
+fn push_into_contact(rotate: DVec3, frames: usize) {
+    let mut s = builtin_session(DVec3::ZERO);
+    s.step(&move_by(DVec3::new(0.0, 0.0, 25.0), DVec3::Z, 0.0), 0.0);
+    let push = FrameInput {
+        nudge: Motion6 {
+            translate: DVec3::new(0.05, 0.02, 0.0),
+            rotate,
+        },
+        ..FrameInput::default()
+    };
+    let mut first: Option<Pose> = None;
+    let (mut max_step, mut lo, mut hi) = (0.0f64, f64::INFINITY, 0.0f64);
+    let mut prev = s.bodies()[1].pose;
+    for k in 0..frames {
+        let o = s.step(&push, 0.016);
+        let p = s.bodies()[1].pose;
+        if first.is_none() && o.t < 1.0 {
+            first = Some(p);
+        }
+        if first.is_some() {
+            max_step = max_step.max((p.translation - prev.translation).length());
+            if k % 100 == 0 || k < 1000 {
+                let g = e_gap(&s);
+                lo = lo.min(g);
+                hi = hi.max(g);
+            }
+            assert!(!o.contacts.is_empty(), "frame {k}: lost contact");
+        }
+        prev = p;
+    }
+    let first = first.expect("the push reaches the rings");
+    let last = s.bodies()[1].pose;
+    let drift = (last.translation - first.translation).length();
+    let turn = angle(last.rotation, first.rotation);
+    println!(
+        "{frames} frames pushing (turn {rotate}): gap in [{lo:.2e}, {hi:.2e}] Å, \
+         largest step after contact {max_step:.1e} Å, drift {drift:.1e} Å, {turn:.1e} rad"
+    );
+    assert!(lo > 0.0, "crept into the rings: gap {lo}");
+    assert!(hi <= TOL + 1e-6, "drifted away: gap {hi}");
+    assert!(drift < 1e-6 && turn < 1e-9, "crept {drift} Å, {turn} rad");
+}
+
+#[test]
+fn pushing_into_a_contact_for_1e5_frames_neither_jitters_creeps_nor_drifts() {
+    push_into_contact(DVec3::ZERO, 100_000);
+    push_into_contact(DVec3::new(0.0, 0.0, 2e-3), 20_000);
+}
+
+#[test]
+fn extreme_steps_and_turns() {
+    // Steps of 10⁻¹² Å in free space are all taken.
+    let mut s = builtin_session(DVec3::ZERO);
+    let p0 = s.bodies()[1].pose;
+    for _ in 0..1000 {
+        let o = s.step(&move_by(DVec3::new(1e-12, 0.0, 0.0), DVec3::Z, 0.0), 0.0);
+        assert_eq!(o.t, 1.0);
+    }
+    let moved = s.bodies()[1].pose.translation.x - p0.translation.x;
+    assert!((moved - 1e-9).abs() < 1e-11, "1000 × 1e-12 Å moved {moved}");
+    // 10⁻¹² Å steps into a contact: never in, never NaN.
+    let mut s = builtin_session(DVec3::ZERO);
+    s.step(&move_by(DVec3::new(0.0, 5.0, 0.0), DVec3::Z, 0.0), 0.0);
+    let o = s.step(&move_by(DVec3::new(0.0, 0.0, 30.0), DVec3::Z, 0.0), 0.0);
+    assert!(o.t < 1.0 && e_gap(&s) > 0.0);
+    for _ in 0..1000 {
+        s.step(&move_by(DVec3::new(0.0, 0.0, 1e-12), DVec3::Z, 0.0), 0.0);
+        assert!(e_gap(&s) > 0.0 && s.bodies()[1].pose.is_finite());
+    }
+    // A 10⁴ Å step through the rings stops at them; one away is taken whole.
+    let mut s = builtin_session(DVec3::ZERO);
+    s.step(&move_by(DVec3::new(0.0, 5.0, 0.0), DVec3::Z, 0.0), 0.0);
+    let z0 = s.bodies()[1].pose.translation.z;
+    let o = s.step(&move_by(DVec3::new(0.0, 0.0, 1e4), DVec3::Z, 0.0), 0.0);
+    let z1 = s.bodies()[1].pose.translation.z;
+    assert!(o.t < 1e-2 && z1 < 0.0 && e_gap(&s) > 0.0, "t {} z {z1}", o.t);
+    assert!(e_gap(&s) <= TOL + 1e-6);
+    let o = s.step(&move_by(DVec3::new(0.0, 0.0, -1e4), DVec3::Z, 0.0), 0.0);
+    assert_eq!(o.t, 1.0);
+    let z2 = s.bodies()[1].pose.translation.z;
+    assert!((z2 - (z1 - 1e4)).abs() < 1e-9 && z0 > z2);
+    // Turns of 10⁻⁹ degrees are all taken, not rounded away.
+    let mut s = builtin_session(DVec3::ZERO);
+    let q0 = s.bodies()[1].pose.rotation;
+    for _ in 0..1000 {
+        let o = s.step(&move_by(DVec3::ZERO, DVec3::Y, 1e-9), 0.0);
+        assert_eq!(o.t, 1.0);
+    }
+    let turned = angle(s.bodies()[1].pose.rotation, q0);
+    let want = 1e-6f64.to_radians();
+    assert!((turned - want).abs() < 1e-3 * want, "turned {turned}, want {want}");
+    // A turn of 10³ degrees: free, it lands on 1000° mod 360°; docked in the
+    // rings it stops at a contact without entering them.
+    let mut s = builtin_session(DVec3::ZERO);
+    s.step(&move_by(DVec3::new(0.0, 0.0, -100.0), DVec3::Z, 0.0), 0.0);
+    let q0 = s.bodies()[1].pose.rotation;
+    let axis = DVec3::new(0.3, 1.0, -0.2).normalize();
+    let o = s.step(&move_by(DVec3::ZERO, axis, 1e3), 0.0);
+    assert_eq!(o.t, 1.0);
+    let want = DQuat::from_axis_angle(axis, 1e3f64.to_radians()) * q0;
+    assert!(angle(s.bodies()[1].pose.rotation, want) < 1e-9);
+    let mut s = builtin_session(DVec3::ZERO);
+    s.step(&move_by(DVec3::new(0.0, 0.0, 25.0), DVec3::Z, 0.0), 0.0);
+    for k in 0..20 {
+        let o = s.step(&move_by(DVec3::ZERO, axis, 1e3 * (k as f64 - 9.5)), 0.0);
+        let p = s.bodies()[1].pose;
+        assert!(p.is_finite() && o.t.is_finite());
+        assert!(e_gap(&s) > 0.0, "turn {k}: overlap");
+    }
+}
