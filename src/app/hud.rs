@@ -39,6 +39,8 @@ pub struct HudState {
     pub loading: Option<String>,
     /// When the current load started.
     pub loading_since: Option<std::time::Instant>,
+    /// Depth cues and stereo.
+    pub view: super::stereo::ViewState,
 }
 
 impl HudState {
@@ -131,6 +133,10 @@ pub fn show(ui: &mut egui::Ui, session: &Session, hud: &mut HudState) -> Vec<Com
             }
             ui.checkbox(&mut hud.flash, "Flash");
             ui.checkbox(&mut hud.light_mode, "Light mode");
+            ui.separator();
+            let (c, said) = super::stereo::controls(ui, &mut hud.view, session.rock().is_on());
+            cmds.extend(c);
+            said.into_iter().for_each(|m| hud.say(m));
             ui.separator();
             ui.label(format!("Contacts: {}", session.contacts().len()));
             ui.separator();
