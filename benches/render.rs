@@ -7,15 +7,20 @@
 //! `idle_frame` measures a frame in which nothing changed: the session step
 //! reports `changed == false`, so the window draws nothing at all.
 //!
-//! Run with `cargo bench --bench render`.
+//! `cues_1280x720` measures each depth cue and stereo mode on DHFR with
+//! trimethoprim (the built-in scene without ../shared/pdb), against mono
+//! with no cue in the same run.
+//!
+//! Run with `cargo bench --bench render` (only the cues:
+//! `cargo bench --bench render -- cues_`).
 
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use bump::model::{self, LoadOptions, Molecule, RadiiSet, builtin};
+use bump::model::{self, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
 use bump::render::offscreen::Offscreen;
-use bump::render::{Gpu, ViewParams};
+use bump::render::{Cues, Gpu, Stereo, StereoMode, ViewParams};
 use bump::session::{FrameInput, Session, Settings};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 
@@ -79,5 +84,79 @@ fn frames(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, frames);
+fn dhfr() -> Option<Vec<Molecule>> {
+    let d = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb"));
+    let loaded = model::load(&d.join("6xg5_tmp_prepared.pdb"), &LoadOptions::default()).ok()?;
+    let spec = LigandSpec::parse("TOP").ok()?;
+    let (r, d) = model::split_complex(&loaded.structure, &spec).ok()?;
+    Some(vec![r, d])
+}
+
+fn cues_and_stereo(c: &mut Criterion) {
+    let gpu = match Gpu::headless() {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("SKIP: no graphics adapter: {e}");
+            return;
+        }
+    };
+    let (label, mols) = match dhfr() {
+        Some(m) => ("dhfr", m),
+        None => {
+            eprintln!("SKIP DHFR: ../shared/pdb not readable; using the built-in scene");
+            let (r, d) = builtin::scene(RadiiSet::Bondi);
+            ("builtin", vec![r, d])
+        }
+    };
+    let Ok(session) = Session::new(mols, Settings::default()) else {
+        return;
+    };
+    let Ok(mut target) = Offscreen::new(&gpu, &session, 1280, 720) else {
+        return;
+    };
+    let cue = |list: &str| Cues::parse(list).unwrap_or(Cues::NONE);
+    let mut cases: Vec<(String, ViewParams)> = Vec::new();
+    for list in [
+        "none",
+        "depth",
+        "outline",
+        "ao",
+        "shadow",
+        "translucent",
+        "depth,outline,ao,shadow,translucent",
+    ] {
+        cases.push((
+            format!("mono_{}", list.replace(',', "+")),
+            ViewParams {
+                cues: cue(list),
+                ..ViewParams::default()
+            },
+        ));
+    }
+    for mode in StereoMode::ALL.into_iter().skip(1) {
+        cases.push((
+            format!("{}_none", mode.name()),
+            ViewParams {
+                cues: Cues::NONE,
+                stereo: Stereo {
+                    mode,
+                    ..Stereo::default()
+                },
+                ..ViewParams::default()
+            },
+        ));
+    }
+    let mut g = c.benchmark_group(format!("cues_1280x720_{label}"));
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    for (name, params) in cases {
+        g.bench_function(BenchmarkId::new("frame", name), |b| {
+            b.iter(|| black_box(target.render(&gpu, &session, &params)))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, frames, cues_and_stereo);
 criterion_main!(benches);

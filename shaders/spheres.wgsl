@@ -6,13 +6,30 @@
 // sphere, shades the hit point and writes its true depth, so spheres
 // intersect correctly. Everything is in view space: each molecule's
 // model-view matrix is composed in f64 on the CPU, so large world
-// coordinates never reach f32.
+// coordinates never reach f32. A stereo eye sits at `frame.eye` in the mono
+// view space; its projection is off-axis (built on the CPU).
+//
+// Variants (no cost when off): DEPTH_CUE is a pipeline constant;
+// fs_shadowed (reads the shadow map, group 1) replaces fs_main when shadows
+// are on; vs_light/fs_light draw the shadow map itself, orthographic from
+// the light, with parallel rays.
 
 struct Frame {
     proj: mat4x4<f32>,
     // xyz: direction towards the light (view space, unit); w: ambient share.
     light: vec4<f32>,
     highlight: vec4<f32>,
+    // xyz: this eye's position in the mono view space.
+    eye: vec4<f32>,
+    // x: distance where fading starts, y: where it is strongest, z: strength.
+    fog: vec4<f32>,
+    background: vec4<f32>,
+    // Mono view space → light space (a rotation and a shift; light looks down −z).
+    light_view: mat4x4<f32>,
+    // x: half extent of the map (Å), y: light-space z at depth 0, z: depth range (Å), w: bias (Å).
+    shadow: vec4<f32>,
+    // x: shadow map size (texels), y: how dark a full shadow is (0..1).
+    shadow_b: vec4<f32>,
 };
 
 struct Atom {
@@ -27,6 +44,9 @@ struct Atom {
 @group(0) @binding(2) var<storage, read> model_view: array<mat4x4<f32>>;
 // One bit per atom: in contact.
 @group(0) @binding(3) var<storage, read> highlight: array<u32>;
+@group(1) @binding(0) var shadow_map: texture_depth_2d;
+
+override DEPTH_CUE: bool = false;
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
@@ -46,7 +66,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     var out: VsOut;
     let atom = atoms[ii];
     let body = u32(atom.color_body.w);
-    let c = (model_view[body] * vec4<f32>(atom.pos_radius.xyz, 1.0)).xyz;
+    let c = (model_view[body] * vec4<f32>(atom.pos_radius.xyz, 1.0)).xyz - frame.eye.xyz;
     let r = atom.pos_radius.w;
     let d = length(c);
     out.centre = c;
@@ -81,9 +101,14 @@ struct FsOut {
     @builtin(frag_depth) depth: f32,
 };
 
-@fragment
-fn fs_main(in: VsOut) -> FsOut {
-    var out: FsOut;
+struct Hit {
+    point: vec3<f32>,
+    normal: vec3<f32>,
+    dir: vec3<f32>,
+};
+
+// The eye ray's first hit on the sphere, or discard.
+fn ray_cast(in: VsOut) -> Hit {
     let dir = normalize(in.view_pos);
     let b = dot(dir, in.centre);
     let disc = b * b - (dot(in.centre, in.centre) - in.radius * in.radius);
@@ -92,15 +117,92 @@ fn fs_main(in: VsOut) -> FsOut {
     }
     let t = b - sqrt(disc);
     let hit = dir * t;
-    let n = normalize(hit - in.centre);
+    return Hit(hit, normalize(hit - in.centre), dir);
+}
+
+// Shades a hit with the share `sun` (0..1) of direct light reaching it.
+fn shade(in: VsOut, h: Hit, sun: f32) -> FsOut {
+    var out: FsOut;
     let l = frame.light.xyz;
-    let diffuse = max(dot(n, l), 0.0);
-    let h = normalize(l - dir);
-    let spec = pow(max(dot(n, h), 0.0), 40.0) * 0.35;
+    let diffuse = max(dot(h.normal, l), 0.0) * sun;
+    let half_way = normalize(l - h.dir);
+    let spec = pow(max(dot(h.normal, half_way), 0.0), 40.0) * 0.35 * sun;
     let ambient = frame.light.w;
-    let shade = in.color * (ambient + (1.0 - ambient) * diffuse) + vec3<f32>(spec);
-    out.color = vec4<f32>(shade, 1.0);
-    let clip = frame.proj * vec4<f32>(hit, 1.0);
+    var color = in.color * (ambient + (1.0 - ambient) * diffuse) + vec3<f32>(spec);
+    if (DEPTH_CUE) {
+        let t = clamp((-h.point.z - frame.fog.x) / max(frame.fog.y - frame.fog.x, 1e-3), 0.0, 1.0);
+        color = mix(color, frame.background.rgb, t * frame.fog.z);
+    }
+    out.color = vec4<f32>(color, 1.0);
+    let clip = frame.proj * vec4<f32>(h.point, 1.0);
     out.depth = clip.z / clip.w;
     return out;
+}
+
+@fragment
+fn fs_main(in: VsOut) -> FsOut {
+    return shade(in, ray_cast(in), 1.0);
+}
+
+// Share of the light reaching mono-view point `p` (3×3 percentage-closer filter).
+fn sunlight(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    // Push the lookup off the surface along its normal against acne.
+    let lp = (frame.light_view * vec4<f32>(p + n * frame.shadow.w, 1.0)).xyz;
+    let size = frame.shadow_b.x;
+    let uv = vec2<f32>(lp.x, -lp.y) / frame.shadow.x * 0.5 + 0.5;
+    let depth = (frame.shadow.y - lp.z) / frame.shadow.z;
+    let base = vec2<i32>(floor(uv * size));
+    let top = i32(size) - 1;
+    var lit = 0.0;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let q = clamp(base + vec2<i32>(dx, dy), vec2<i32>(0), vec2<i32>(top));
+            let occluder = textureLoad(shadow_map, q, 0);
+            lit += select(0.0, 1.0, depth <= occluder);
+        }
+    }
+    return 1.0 - frame.shadow_b.y * (1.0 - lit / 9.0);
+}
+
+@fragment
+fn fs_shadowed(in: VsOut) -> FsOut {
+    let h = ray_cast(in);
+    return shade(in, h, sunlight(h.point + frame.eye.xyz, h.normal));
+}
+
+struct LightOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) light_pos: vec2<f32>,
+    @location(1) @interpolate(flat) centre: vec3<f32>,
+    @location(2) @interpolate(flat) radius: f32,
+};
+
+// The shadow map: atoms seen from the light, orthographic, so each quad is
+// square in light space and each ray runs along −z.
+@vertex
+fn vs_light(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> LightOut {
+    var out: LightOut;
+    let atom = atoms[ii];
+    let body = u32(atom.color_body.w);
+    let view = model_view[body] * vec4<f32>(atom.pos_radius.xyz, 1.0);
+    let c = (frame.light_view * view).xyz;
+    let r = atom.pos_radius.w;
+    let p = c.xy + CORNERS[vi] * r * 1.02;
+    out.light_pos = p;
+    out.centre = c;
+    out.radius = r;
+    // Depth of the quad is irrelevant: the fragment writes the true one.
+    out.clip = vec4<f32>(p / frame.shadow.x, 0.5, 1.0);
+    return out;
+}
+
+@fragment
+fn fs_light(in: LightOut) -> @builtin(frag_depth) f32 {
+    let d = in.light_pos - in.centre.xy;
+    let h2 = in.radius * in.radius - dot(d, d);
+    if (h2 < 0.0) {
+        discard;
+    }
+    let z = in.centre.z + sqrt(h2);
+    return clamp((frame.shadow.y - z) / frame.shadow.z, 0.0, 1.0);
 }

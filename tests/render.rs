@@ -1,13 +1,14 @@
 //! Image tests on whatever adapter there is (Mesa's CPU Vulkan in CI):
 //! silhouettes against the exact perspective projection, depth order,
-//! contact highlights, and what moving a molecule uploads.
+//! contact highlights, what moving a molecule uploads, and that each depth
+//! cue changes the pixels it should (and costs no pass when off).
 
 mod common;
 
 use bump::model::{LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
 use bump::render::offscreen::{Image, Offscreen, render_image};
 use bump::render::view::{model_views, projection};
-use bump::render::{Gpu, ViewParams};
+use bump::render::{Cues, Gpu, ViewParams};
 use bump::session::{Command, FrameInput, Motion6, Session, Settings};
 use glam::DVec3;
 
@@ -235,7 +236,225 @@ fn moving_a_molecule_uploads_matrices_only_and_highlights_only_changed_words() {
         after.atom_bytes, before.atom_bytes,
         "no atom data after a move"
     );
-    assert_eq!(after.matrix_bytes - before.matrix_bytes, 96 + 2 * 64);
+    // One eye's uniform (240 bytes) and two model-view matrices.
+    assert_eq!(after.matrix_bytes - before.matrix_bytes, 240 + 2 * 64);
     // 98 atoms span 4 words: at most those are rewritten.
     assert!(after.highlight_bytes - before.highlight_bytes <= 16);
+}
+
+fn with_cues(cues: Cues) -> ViewParams {
+    ViewParams {
+        cues,
+        ..ViewParams::default()
+    }
+}
+
+fn luma(px: [u8; 4]) -> f64 {
+    0.2126 * f64::from(px[0]) + 0.7152 * f64::from(px[1]) + 0.0722 * f64::from(px[2])
+}
+
+fn atoms(list: &[(f32, DVec3)]) -> Vec<Molecule> {
+    list.iter().map(|&(r, at)| one_atom("C", r, at)).collect()
+}
+
+#[test]
+fn cues_that_are_off_cost_no_pass_draw_or_texture() {
+    let Some(gpu) = gpu() else { return };
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    let s = Session::new(vec![rings, e], Settings::default()).expect("session");
+    let mut off = Offscreen::new(&gpu, &s, 96, 64).expect("target");
+    for cues in [Cues::NONE, Cues::default()] {
+        off.render(&gpu, &s, &with_cues(cues)).expect("render");
+        let st = off.spheres.frame_stats();
+        assert_eq!((st.eyes, st.passes, st.draws), (1, 1, 1), "{cues:?}");
+    }
+    assert_eq!(
+        off.spheres.resources(),
+        bump::render::spheres::Resources::default(),
+        "no shadow map, screen-space pass or eye texture was made"
+    );
+    let one = |f: fn(&mut Cues)| {
+        let mut c = Cues::NONE;
+        f(&mut c);
+        c
+    };
+    // Each cue adds exactly its own work.
+    for (cues, passes, draws) in [
+        (one(|c| c.shadow = true), 2, 2),
+        (one(|c| c.outline = true), 2, 2),
+        (one(|c| c.ao = true), 2, 2),
+        (one(|c| c.translucent = true), 1, 3),
+    ] {
+        off.render(&gpu, &s, &with_cues(cues)).expect("render");
+        let st = off.spheres.frame_stats();
+        assert_eq!((st.passes, st.draws), (passes, draws), "{cues:?}");
+    }
+}
+
+#[test]
+fn depth_cueing_fades_far_atoms_more_than_near_ones() {
+    let Some(gpu) = gpu() else { return };
+    let near = DVec3::new(-3.0, 0.0, 6.0);
+    let far = DVec3::new(3.0, 0.0, -6.0);
+    let s = Session::new(atoms(&[(1.7, near), (1.7, far)]), Settings::default()).expect("session");
+    let (w, h) = (240u32, 160u32);
+    let plain = render_image(&gpu, &s, w, h, &with_cues(Cues::NONE)).expect("render");
+    let cued = render_image(
+        &gpu,
+        &s,
+        w,
+        h,
+        &with_cues(Cues::parse("depth").expect("cue")),
+    )
+    .expect("render");
+    let at = |img: &Image, body| {
+        let (x, y) = project(&s, body, DVec3::ZERO, w, h);
+        luma(img.pixel(x, y).expect("px"))
+    };
+    let near_loss = at(&plain, 0) - at(&cued, 0);
+    let far_loss = at(&plain, 1) - at(&cued, 1);
+    // Far atoms fade by tens of percent (sRGB), near ones by a few.
+    assert!(
+        near_loss >= 0.0 && near_loss < 0.08 * at(&plain, 0),
+        "near {near_loss}"
+    );
+    assert!(far_loss > 0.15 * at(&plain, 1), "far {far_loss}");
+    assert!(far_loss > 3.0 * near_loss);
+}
+
+#[test]
+fn outlines_darken_the_silhouette_and_leave_the_inside() {
+    let Some(gpu) = gpu() else { return };
+    let s = Session::new(atoms(&[(1.7, DVec3::ZERO)]), Settings::default()).expect("session");
+    let (w, h) = (200u32, 200u32);
+    let plain = render_image(&gpu, &s, w, h, &with_cues(Cues::NONE)).expect("render");
+    let lined = render_image(
+        &gpu,
+        &s,
+        w,
+        h,
+        &with_cues(Cues::parse("outline").expect("cue")),
+    )
+    .expect("render");
+    let bg = plain.pixel(0, 0).expect("corner");
+    // The rim: the lit pixels of the centre row nearest the background.
+    let row = h / 2;
+    let lit: Vec<u32> = (0..w)
+        .filter(|&x| plain.pixel(x, row).expect("px") != bg)
+        .collect();
+    let (first, last) = (lit[0], *lit.last().expect("lit"));
+    for x in [first, first + 1, last - 1, last] {
+        let (a, b) = (
+            plain.pixel(x, row).expect("px"),
+            lined.pixel(x, row).expect("px"),
+        );
+        assert!(luma(b) < 0.5 * luma(a), "rim x {x}: {a:?} -> {b:?}");
+    }
+    assert_eq!(
+        plain.pixel(w / 2, row),
+        lined.pixel(w / 2, row),
+        "inside unchanged"
+    );
+    assert_eq!(lined.pixel(0, 0), Some(bg), "background unchanged");
+}
+
+#[test]
+fn ambient_occlusion_darkens_an_atom_in_a_crevice_only() {
+    let Some(gpu) = gpu() else { return };
+    // Body 0 sits at the bottom of a crevice of four nearer atoms; body 5
+    // stands alone.
+    let mut list = vec![(1.7, DVec3::ZERO)];
+    for (dx, dy) in [(3.6, 0.0), (-3.6, 0.0), (0.0, 3.6), (0.0, -3.6)] {
+        list.push((1.7, DVec3::new(dx, dy, 2.5)));
+    }
+    list.push((1.7, DVec3::new(14.0, 0.0, 0.0)));
+    let s = Session::new(atoms(&list), Settings::default()).expect("session");
+    let (w, h) = (320u32, 200u32);
+    let plain = render_image(&gpu, &s, w, h, &with_cues(Cues::NONE)).expect("render");
+    let ao =
+        render_image(&gpu, &s, w, h, &with_cues(Cues::parse("ao").expect("cue"))).expect("render");
+    let at = |img: &Image, body| {
+        let (x, y) = project(&s, body, DVec3::new(0.0, 0.0, 1.7), w, h);
+        luma(img.pixel(x, y).expect("px"))
+    };
+    // sRGB luma: −10 is about −20 % of the light (linear).
+    assert!(
+        at(&ao, 0) < at(&plain, 0) - 10.0,
+        "crevice {} -> {}",
+        at(&plain, 0),
+        at(&ao, 0)
+    );
+    assert_eq!(
+        at(&ao, 5),
+        at(&plain, 5),
+        "a lone atom's face is not occluded"
+    );
+}
+
+#[test]
+fn shadows_darken_an_atom_behind_another_from_the_light() {
+    let Some(gpu) = gpu() else { return };
+    // The light comes from +x; body 1 (large) stands between it and body 0.
+    // Body 2 is a copy of body 0 with nothing in its light.
+    let list = [
+        (1.7, DVec3::ZERO),
+        (2.5, DVec3::new(4.0, 0.0, 0.0)),
+        (1.7, DVec3::new(0.0, 9.0, 0.0)),
+    ];
+    let s = Session::new(atoms(&list), Settings::default()).expect("session");
+    let params = |cues| ViewParams {
+        light: DVec3::new(1.0, 0.0, 0.2),
+        cues,
+        ..ViewParams::default()
+    };
+    let (w, h) = (320u32, 240u32);
+    let plain = render_image(&gpu, &s, w, h, &params(Cues::NONE)).expect("render");
+    let shadowed =
+        render_image(&gpu, &s, w, h, &params(Cues::parse("shadow").expect("cue"))).expect("render");
+    // A point of the lit side (normal 40° towards +x).
+    let side = DVec3::new(
+        1.7 * 40f64.to_radians().sin(),
+        0.0,
+        1.7 * 40f64.to_radians().cos(),
+    );
+    let at = |img: &Image, body| {
+        let (x, y) = project(&s, body, side, w, h);
+        luma(img.pixel(x, y).expect("px"))
+    };
+    assert!(
+        // sRGB luma: ×0.7 is about ×0.45 of the light (linear).
+        at(&shadowed, 0) < 0.7 * at(&plain, 0),
+        "in shadow: {} -> {}",
+        at(&plain, 0),
+        at(&shadowed, 0)
+    );
+    assert!(
+        (at(&shadowed, 2) - at(&plain, 2)).abs() <= 2.0,
+        "in the light: {} -> {}",
+        at(&plain, 2),
+        at(&shadowed, 2)
+    );
+}
+
+#[test]
+fn a_translucent_receptor_shows_the_drug_behind_it() {
+    let Some(gpu) = gpu() else { return };
+    // The receptor (grey, body 0) hides the drug (green, body 1) behind it.
+    let receptor = one_atom("C", 2.0, DVec3::new(0.0, 0.0, 3.0));
+    let drug = one_atom("C", 1.7, DVec3::ZERO);
+    let s = Session::new(vec![receptor, drug], Settings::default()).expect("session");
+    let (w, h) = (200u32, 200u32);
+    let plain = render_image(&gpu, &s, w, h, &with_cues(Cues::NONE)).expect("render");
+    let see = render_image(
+        &gpu,
+        &s,
+        w,
+        h,
+        &with_cues(Cues::parse("translucent").expect("cue")),
+    )
+    .expect("render");
+    let (x, y) = project(&s, 1, DVec3::ZERO, w, h);
+    let (a, b) = (plain.pixel(x, y).expect("px"), see.pixel(x, y).expect("px"));
+    assert!(!is_green(a), "opaque receptor hides the drug: {a:?}");
+    assert!(is_green(b), "translucent receptor shows it: {b:?}");
 }

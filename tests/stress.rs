@@ -161,12 +161,7 @@ fn builtin_session(offset: DVec3) -> Session {
 fn e_gap(s: &Session) -> f64 {
     let b = s.bodies();
     let rel = b[0].pose.inverse().compose(&b[1].pose);
-    min_gap(
-        &s.settings().rule,
-        &b[0].molecule,
-        &b[1].molecule,
-        &rel,
-    )
+    min_gap(&s.settings().rule, &b[0].molecule, &b[1].molecule, &rel)
 }
 
 fn move_by(translate: DVec3, axis: DVec3, degrees: f64) -> FrameInput {
@@ -227,7 +222,10 @@ fn a_scene_far_from_the_origin_gives_the_same_answers() {
             assert_eq!(a.3, b.3, "offset {scale:e}, frame {k}: contacts differ");
         }
         println!("offset {scale:e} Å: worst position difference {dp:.2e} Å, rotation {dq:.2e} rad");
-        assert!(dp < FAR_TOLERANCE, "offset {scale:e}: positions differ by {dp}");
+        assert!(
+            dp < FAR_TOLERANCE,
+            "offset {scale:e}: positions differ by {dp}"
+        );
         assert!(dq < 1e-9, "offset {scale:e}: rotations differ by {dq}");
     }
 }
@@ -382,7 +380,11 @@ fn extreme_steps_and_turns() {
     let z0 = s.bodies()[1].pose.translation.z;
     let o = s.step(&move_by(DVec3::new(0.0, 0.0, 1e4), DVec3::Z, 0.0), 0.0);
     let z1 = s.bodies()[1].pose.translation.z;
-    assert!(o.t < 1e-2 && z1 < 0.0 && e_gap(&s) > 0.0, "t {} z {z1}", o.t);
+    assert!(
+        o.t < 1e-2 && z1 < 0.0 && e_gap(&s) > 0.0,
+        "t {} z {z1}",
+        o.t
+    );
     assert!(e_gap(&s) <= TOL + 1e-6);
     let o = s.step(&move_by(DVec3::new(0.0, 0.0, -1e4), DVec3::Z, 0.0), 0.0);
     assert_eq!(o.t, 1.0);
@@ -397,7 +399,10 @@ fn extreme_steps_and_turns() {
     }
     let turned = angle(s.bodies()[1].pose.rotation, q0);
     let want = 1e-6f64.to_radians();
-    assert!((turned - want).abs() < 1e-3 * want, "turned {turned}, want {want}");
+    assert!(
+        (turned - want).abs() < 1e-3 * want,
+        "turned {turned}, want {want}"
+    );
     // A turn of 10³ degrees: free, it lands on 1000° mod 360°; docked in the
     // rings it stops at a contact without entering them.
     let mut s = builtin_session(DVec3::ZERO);

@@ -43,6 +43,8 @@ pub struct HudState {
     pub joysticks: Option<String>,
     /// Recording or replay progress.
     pub replay: Option<String>,
+    /// Depth cues and stereo.
+    pub view: super::stereo::ViewState,
 }
 
 impl HudState {
@@ -135,6 +137,10 @@ pub fn show(ui: &mut egui::Ui, session: &Session, hud: &mut HudState) -> Vec<Com
             }
             ui.checkbox(&mut hud.flash, "Flash");
             ui.checkbox(&mut hud.light_mode, "Light mode");
+            ui.separator();
+            let (c, said) = super::stereo::controls(ui, &mut hud.view, session.rock().is_on());
+            cmds.extend(c);
+            said.into_iter().for_each(|m| hud.say(m));
             ui.separator();
             ui.label(format!("Contacts: {}", session.contacts().len()));
             ui.separator();

@@ -23,6 +23,12 @@
 //! | Ctrl+O | open a file (or drop one on the window) |
 //! | Home | reset the selected molecule to its loaded pose |
 //! | V | reset the view |
+//! | K | rocking on/off; `,` `.` narrower / wider swing |
+//! | 3 | next stereo mode (the thesis's S turns the view here) |
+//! | [ ] | eyes closer / further apart; `-` `=` convergence nearer / farther |
+//! | E | swap the eyes |
+//! | F | depth cueing on/off; 9 / 0 weaker / stronger |
+//! | I, M, H, T | outlines, ambient occlusion, shadows, translucent receptor |
 //! | F1 or ? | help |
 //! | F12 | screenshot (PNG) |
 //! | Q, Escape | quit |
@@ -30,6 +36,7 @@
 use glam::DVec3;
 use winit::keyboard::KeyCode;
 
+use super::stereo::CueAction;
 use crate::session::{Command, Motion6};
 
 /// Translation speed of a held key, Å per second (before modifiers).
@@ -76,6 +83,8 @@ pub enum ShellAction {
     SavePose,
     /// Show the Open dialog.
     Open,
+    /// Change a depth cue or the stereo settings.
+    Cue(CueAction),
 }
 
 /// A key press, translated.
@@ -109,6 +118,22 @@ pub fn action(key: KeyCode, mods: Mods) -> Option<KeyAction> {
         KeyCode::F12 => Shell(ShellAction::Screenshot),
         KeyCode::KeyL => Shell(ShellAction::ToggleLight),
         KeyCode::KeyB => Shell(ShellAction::ToggleFlash),
+        KeyCode::KeyK => S(Command::ToggleRocking),
+        KeyCode::Comma => S(Command::RockLess),
+        KeyCode::Period => S(Command::RockMore),
+        KeyCode::Digit3 => Shell(ShellAction::Cue(CueAction::CycleStereo)),
+        KeyCode::BracketLeft => Shell(ShellAction::Cue(CueAction::EyesCloser)),
+        KeyCode::BracketRight => Shell(ShellAction::Cue(CueAction::EyesApart)),
+        KeyCode::Minus => Shell(ShellAction::Cue(CueAction::ConvergeNearer)),
+        KeyCode::Equal => Shell(ShellAction::Cue(CueAction::ConvergeFarther)),
+        KeyCode::KeyE => Shell(ShellAction::Cue(CueAction::SwapEyes)),
+        KeyCode::KeyF => Shell(ShellAction::Cue(CueAction::DepthCue)),
+        KeyCode::Digit9 => Shell(ShellAction::Cue(CueAction::DepthCueLess)),
+        KeyCode::Digit0 => Shell(ShellAction::Cue(CueAction::DepthCueMore)),
+        KeyCode::KeyI => Shell(ShellAction::Cue(CueAction::Outline)),
+        KeyCode::KeyM => Shell(ShellAction::Cue(CueAction::Occlusion)),
+        KeyCode::KeyH => Shell(ShellAction::Cue(CueAction::Shadow)),
+        KeyCode::KeyT => Shell(ShellAction::Cue(CueAction::Translucent)),
         _ => return None,
     })
 }
@@ -189,6 +214,18 @@ pub const HELP: &[(&str, &str)] = &[
     ),
     ("Ctrl+drag", "move the selected molecule"),
     ("Click", "select the molecule of an atom and show the atom"),
+    ("K; , .", "rocking on/off; narrower / wider swing"),
+    (
+        "3",
+        "next stereo mode: side by side, top-bottom, rows, columns, anaglyph, frame-sequential, mono",
+    ),
+    (
+        "[ ]; - =; E",
+        "eye separation; convergence nearer / farther; swap eyes",
+    ),
+    ("F; 9 0", "depth cueing on/off; weaker / stronger"),
+    ("I / M", "silhouette outlines / ambient occlusion on/off"),
+    ("H / T", "shadows / translucent receptor on/off"),
     ("F12", "screenshot (PNG)"),
     ("F1 or ?", "this help"),
     ("Q or Escape", "quit"),
@@ -220,6 +257,30 @@ mod tests {
         assert_eq!(
             action(KeyCode::KeyL, none),
             Some(KeyAction::Shell(ShellAction::ToggleLight))
+        );
+    }
+
+    #[test]
+    fn cue_and_stereo_keys_are_not_motion_keys() {
+        let none = Mods::default();
+        for k in [
+            KeyCode::KeyK,
+            KeyCode::Digit3,
+            KeyCode::BracketLeft,
+            KeyCode::BracketRight,
+            KeyCode::KeyE,
+            KeyCode::KeyF,
+            KeyCode::KeyI,
+            KeyCode::KeyM,
+            KeyCode::KeyH,
+            KeyCode::KeyT,
+        ] {
+            assert!(action(k, none).is_some(), "{k:?}");
+            assert!(motion_of(k, none).is_none(), "{k:?}");
+        }
+        assert_eq!(
+            action(KeyCode::KeyK, none),
+            Some(KeyAction::Session(Command::ToggleRocking))
         );
     }
 

@@ -12,6 +12,7 @@ pub mod joysticks;
 pub mod keymap;
 pub mod open_dialog;
 pub mod pick;
+pub mod stereo;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -302,6 +303,9 @@ impl App {
         let egui_renderer =
             egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default());
         self.hud.say(format!("rendering with {}", gpu.describe()));
+        self.hud.view.refresh_millihertz = window
+            .current_monitor()
+            .and_then(|m| m.refresh_rate_millihertz());
         Ok(Gfx {
             window,
             surface,
@@ -374,6 +378,10 @@ impl App {
             ShellAction::Open => self
                 .open_dialog
                 .show_at(std::env::current_dir().unwrap_or_default()),
+            ShellAction::Cue(c) => {
+                let msg = self.hud.view.apply(c);
+                self.hud.say(msg);
+            }
         }
     }
 
@@ -426,6 +434,9 @@ impl App {
         );
         let params = ViewParams {
             light: self.light,
+            cues: self.hud.view.cues,
+            stereo: self.hud.view.stereo,
+            frame: self.hud.view.frame,
             ..ViewParams::default()
         };
         let result = render_image(
@@ -733,11 +744,12 @@ impl App {
         g.spheres
             .apply_highlights(&g.gpu.queue, &out.highlight_changes);
         let params = ViewParams {
-            aspect: f64::from(g.config.width) / f64::from(g.config.height.max(1)),
             light: self.light,
+            cues: self.hud.view.cues,
+            stereo: self.hud.view.stereo,
+            frame: self.hud.view.frame,
             ..ViewParams::default()
         };
-        g.spheres.update_view(&g.gpu.queue, &self.session, &params);
         let frame = match g.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
             | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
@@ -762,7 +774,17 @@ impl App {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
-        g.spheres.draw_scene(&mut encoder, &view, &g.depth, bg);
+        g.spheres.draw_scene(
+            &g.gpu.device,
+            &g.gpu.queue,
+            &mut encoder,
+            &view,
+            &g.depth,
+            (g.config.width, g.config.height),
+            &self.session,
+            &params,
+            bg,
+        );
         // The HUD on top.
         let ppp = full.pixels_per_point;
         let jobs = g.egui_ctx.tessellate(std::mem::take(&mut full.shapes), ppp);
@@ -812,6 +834,7 @@ impl App {
             .queue
             .submit(extra.into_iter().chain(Some(encoder.finish())));
         g.gpu.queue.present(frame);
+        self.hud.view.frame += 1;
         self.hud.frame_ms = now.elapsed().as_secs_f64() * 1e3;
         if step {
             self.timing
@@ -822,7 +845,8 @@ impl App {
             .viewport_output
             .get(&egui::ViewportId::ROOT)
             .is_some_and(|v| v.repaint_delay < Duration::from_millis(100));
-        if input.has_velocity() || flashing || egui_wants || out.changed {
+        let animating = self.hud.view.animating() || self.session.rock().is_on();
+        if input.has_velocity() || flashing || egui_wants || out.changed || animating {
             g.window.request_redraw();
         }
         false

@@ -11,7 +11,7 @@ pub fn pick(session: &Session, x: f64, y: f64, width: f64, height: f64) -> Optio
     if !(width > 0.0 && height > 0.0) {
         return None;
     }
-    let cam = session.camera();
+    let cam = session.view_camera();
     let ndc_x = 2.0 * x / width - 1.0;
     let ndc_y = 1.0 - 2.0 * y / height;
     let half = (0.5 * cam.fov_y).tan();
@@ -51,7 +51,7 @@ mod tests {
         // top of the middle ring projects above the centre.
         let (w, h) = (800.0, 600.0);
         assert_eq!(pick(&s, 0.0, 0.0, w, h), None);
-        let cam = s.camera();
+        let cam = s.view_camera();
         let atom = rings.file_position(4); // (5 cos 80°, 5 sin 80°, 0) in the middle ring? any atom works
         let v = cam.view_matrix().transform_point3(atom);
         let f = 1.0 / (0.5 * cam.fov_y).tan();

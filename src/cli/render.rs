@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 use bump::render::offscreen::{render_image, save_png};
-use bump::render::{Gpu, ViewParams};
+use bump::render::{Cues, Gpu, Stereo, StereoMode, ViewParams};
 use bump::session::{Command, FrameInput, Session, Settings};
 use clap::Args;
 use glam::DVec3;
@@ -40,6 +40,35 @@ pub struct RenderArgs {
     /// Do not highlight the atoms in contact.
     #[arg(long)]
     no_contacts: bool,
+    /// Depth cues, comma-separated: depth, outline, ao, shadow, translucent; or none.
+    #[arg(long, default_value = "depth", value_parser = Cues::parse)]
+    cue: Cues,
+    /// Depth-cueing strength, 0..1 (how far the farthest atoms fade).
+    #[arg(long, default_value_t = 0.6)]
+    depth_strength: f32,
+    /// Stereo mode: mono, side-by-side, side-by-side-half, top-bottom,
+    /// top-bottom-half, rows, columns, anaglyph, frame-sequential.
+    #[arg(long, default_value = "mono", value_parser = parse_stereo)]
+    stereo: StereoMode,
+    /// Eye separation as a fraction of the convergence distance.
+    #[arg(long, default_value_t = 0.03)]
+    eye_sep: f64,
+    /// Convergence distance as a fraction of the distance to the view centre.
+    #[arg(long, default_value_t = 1.0)]
+    convergence: f64,
+    /// Swap the eyes.
+    #[arg(long)]
+    swap_eyes: bool,
+    /// Frame number (frame-sequential stereo: even frames show the left eye).
+    #[arg(long, default_value_t = 0)]
+    frame: u64,
+}
+
+fn parse_stereo(s: &str) -> Result<StereoMode, String> {
+    StereoMode::parse(s).ok_or_else(|| {
+        let names: Vec<&str> = StereoMode::ALL.iter().map(|m| m.name()).collect();
+        format!("`{s}`: use one of {}", names.join(", "))
+    })
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -61,6 +90,21 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if !(args.zoom.is_finite() && args.zoom > 0.0) {
         bail!("--zoom must be a positive number, got {}", args.zoom);
+    }
+    if !(args.eye_sep.is_finite() && (0.0..=1.0).contains(&args.eye_sep)) {
+        bail!("--eye-sep must be between 0 and 1, got {}", args.eye_sep);
+    }
+    if !(args.convergence.is_finite() && args.convergence > 0.0) {
+        bail!(
+            "--convergence must be a positive number, got {}",
+            args.convergence
+        );
+    }
+    if !(0.0..=1.0).contains(&args.depth_strength) {
+        bail!(
+            "--depth-strength must be between 0 and 1, got {}",
+            args.depth_strength
+        );
     }
     let loaded = args.scene.load()?;
     let settings = Settings {
@@ -100,7 +144,20 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     session.camera_mut().distance /= args.zoom;
     let gpu = Gpu::headless()?;
-    let mut params = ViewParams::default();
+    let mut params = ViewParams {
+        cues: Cues {
+            depth_strength: args.depth_strength,
+            ..args.cue
+        },
+        stereo: Stereo {
+            mode: args.stereo,
+            separation: args.eye_sep,
+            convergence: args.convergence,
+            swap: args.swap_eyes,
+        },
+        frame: args.frame,
+        ..ViewParams::default()
+    };
     if let Some(l) = args.light {
         params.light = l;
     }

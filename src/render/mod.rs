@@ -3,18 +3,25 @@
 //! It reads the docking session's state and decides nothing about docking.
 //! Atom data go to the GPU once; a molecule's move changes one model-view
 //! matrix; a contact change rewrites only the highlight words that changed.
-//! [`offscreen`] renders without a window, to pixels or a PNG.
+//! [`offscreen`] renders without a window, to pixels or a PNG. Depth cues
+//! ([`cues`]) and stereo ([`stereo`]) are per-frame settings in
+//! [`ViewParams`]; a cue that is off costs no pass, pipeline or texture.
 
 pub mod colors;
+pub mod cues;
 pub mod gpu;
 pub mod offscreen;
+pub mod pipelines;
 pub mod spheres;
+pub mod stereo;
 pub mod view;
 
 use thiserror::Error;
 
+pub use cues::Cues;
 pub use gpu::Gpu;
-pub use spheres::SphereRenderer;
+pub use spheres::{FrameStats, SphereRenderer};
+pub use stereo::{Stereo, StereoMode};
 pub use view::ViewParams;
 
 /// Why rendering could not happen.

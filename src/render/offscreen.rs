@@ -109,11 +109,6 @@ impl Offscreen {
         session: &Session,
         params: &ViewParams,
     ) -> Result<Image, RenderError> {
-        let params = ViewParams {
-            aspect: f64::from(self.width) / f64::from(self.height),
-            ..*params
-        };
-        self.spheres.update_view(&gpu.queue, session, &params);
         let view = self
             .color
             .create_view(&wgpu::TextureViewDescriptor::default());
@@ -122,8 +117,17 @@ impl Offscreen {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("offscreen"),
             });
-        self.spheres
-            .draw_scene(&mut encoder, &view, &self.depth_view, BACKGROUND);
+        self.spheres.draw_scene(
+            &gpu.device,
+            &gpu.queue,
+            &mut encoder,
+            &view,
+            &self.depth_view,
+            (self.width, self.height),
+            session,
+            params,
+            BACKGROUND,
+        );
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &self.color,

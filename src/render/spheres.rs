@@ -1,26 +1,35 @@
-//! The sphere-impostor pipeline and its GPU buffers.
+//! The sphere-impostor renderer: its GPU buffers and one frame's passes.
 //!
 //! Buffers: atoms (local position, radius, colour, molecule; written once),
 //! one model-view matrix per molecule (rewritten each frame: a few bytes),
 //! one highlight bit per atom (only changed words rewritten), and a small
-//! frame uniform (projection, light, highlight colour). One instanced draw
-//! call draws every atom. [`UploadStats`] counts what was written, so tests
-//! can check that moving a molecule uploads no atom data.
+//! uniform per eye (projection, eye offset, light, cue settings). One
+//! instanced draw call draws every atom of an eye. [`UploadStats`] counts
+//! what was written, so tests can check that moving a molecule uploads no
+//! atom data; [`FrameStats`] counts the passes and draws of the last frame,
+//! so tests can check that a cue that is off costs no pass or draw.
+//!
+//! A frame ([`SphereRenderer::draw_scene`]): the shadow map (shadows only);
+//! the eyes the stereo plan asks for (one in mono), each into its viewport
+//! of the target or, for interleaved and anaglyph modes, into its own
+//! texture; the screen-space pass (outlines, occlusion only) over each eye;
+//! the composition (composed modes only).
 
 use bytemuck::{Pod, Zeroable};
-use glam::Mat4;
+use glam::{DMat4, DQuat, DVec3, Mat4};
 use wgpu::util::DeviceExt;
 
 use super::colors;
-use super::view::{ViewParams, model_views, projection};
+use super::pipelines::{Pipelines, Role, SHADOW_SIZE, SphereKey, sphere_layout};
+use super::stereo::{EyeView, off_axis};
+use super::view::{ViewParams, depth_range, model_views, perspective, scene_sphere};
 use crate::session::Session;
 
 /// Depth buffer format.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-const SHADER: &str = include_str!("../../shaders/spheres.wgsl");
-
-/// A depth buffer of `width`×`height` for the sphere pass.
+/// A depth buffer of `width`×`height` for the sphere pass (readable by the
+/// screen-space pass).
 pub fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
     device
         .create_texture(&wgpu::TextureDescriptor {
@@ -34,7 +43,7 @@ pub fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Textu
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         })
         .create_view(&wgpu::TextureViewDescriptor::default())
@@ -53,6 +62,41 @@ struct FrameUniform {
     proj: [f32; 16],
     light: [f32; 4],
     highlight: [f32; 4],
+    eye: [f32; 4],
+    fog: [f32; 4],
+    background: [f32; 4],
+    light_view: [f32; 16],
+    shadow: [f32; 4],
+    shadow_b: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct PostUniform {
+    depth: [f32; 4],
+    cue: [f32; 4],
+}
+
+/// What the last frame cost in passes and draw calls.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FrameStats {
+    /// Eyes drawn (1 in mono and frame-sequential, 2 in the other stereo modes).
+    pub eyes: u32,
+    /// Render passes recorded.
+    pub passes: u32,
+    /// Draw calls recorded.
+    pub draws: u32,
+}
+
+/// Optional GPU resources that exist (made on first use of their cue).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Resources {
+    /// The shadow map.
+    pub shadow_map: bool,
+    /// The screen-space pass.
+    pub post: bool,
+    /// Eye textures for composed stereo modes.
+    pub eye_textures: bool,
 }
 
 /// Bytes written to the GPU since the renderer was made, by kind.
@@ -68,15 +112,25 @@ pub struct UploadStats {
 
 /// Draws every atom of a session as ray-cast spheres.
 pub struct SphereRenderer {
-    pipeline: wgpu::RenderPipeline,
-    bind_group: wgpu::BindGroup,
-    frame_buf: wgpu::Buffer,
+    pipelines: Pipelines,
+    /// Per eye: its uniform and its bind group 0.
+    eyes: [(wgpu::Buffer, wgpu::BindGroup); 2],
     mv_buf: wgpu::Buffer,
     hl_buf: wgpu::Buffer,
     n_atoms: u32,
     offsets: Vec<usize>,
     words: Vec<u32>,
     stats: UploadStats,
+    last: FrameStats,
+}
+
+/// Light, fog and shadow settings shared by the eyes of a frame.
+struct Lighting {
+    light: [f32; 4],
+    fog: [f32; 4],
+    light_view: [f32; 16],
+    shadow: [f32; 4],
+    shadow_b: [f32; 4],
 }
 
 impl SphereRenderer {
@@ -120,141 +174,132 @@ impl SphereRenderer {
             contents: bytemuck::cast_slice(&words),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
-        let frame_buf = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame"),
-            size: std::mem::size_of::<FrameUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let storage = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::VERTEX,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: true },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("spheres"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
+        let layout = sphere_layout(device);
+        let eye = |label| {
+            let frame_buf = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: std::mem::size_of::<FrameUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: frame_buf.as_entire_binding(),
                     },
-                    count: None,
-                },
-                storage(1),
-                storage(2),
-                storage(3),
-            ],
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("spheres"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: frame_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: atom_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: mv_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: hl_buf.as_entire_binding(),
-                },
-            ],
-        });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("spheres.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("spheres"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("spheres"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: atom_buf.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: mv_buf.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: hl_buf.as_entire_binding(),
+                    },
+                ],
+            });
+            (frame_buf, bind_group)
+        };
+        let eyes = [eye("first eye"), eye("second eye")];
+        let mut pipelines = Pipelines::new(device, color_format, &layout);
+        // The default (mono, depth-cued) pipeline is ready before the first frame.
+        pipelines.sphere(
+            device,
+            SphereKey {
+                role: Role::Opaque,
+                depth_cue: true,
+                shadow: false,
             },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: color_format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
         let stats = UploadStats {
             atom_bytes: (atoms.len() * std::mem::size_of::<GpuAtom>()) as u64,
             ..UploadStats::default()
         };
         Self {
-            pipeline,
-            bind_group,
-            frame_buf,
+            pipelines,
+            eyes,
             mv_buf,
             hl_buf,
             n_atoms,
             offsets,
             words,
             stats,
+            last: FrameStats::default(),
         }
     }
 
-    /// Writes this frame's projection, light and model-view matrices.
-    pub fn update_view(&mut self, queue: &wgpu::Queue, session: &Session, params: &ViewParams) {
-        let light = params.light.normalize_or(glam::DVec3::Z).as_vec3();
+    /// Light, fog and shadow settings of this frame (mono view space).
+    fn lighting(session: &Session, params: &ViewParams) -> Lighting {
+        let l = params.light.normalize_or(DVec3::Z);
+        let (centre, radius) = scene_sphere(session);
+        let cues = &params.cues;
+        let fog = [
+            (-centre.z - radius) as f32,
+            (-centre.z + radius) as f32,
+            if cues.depth {
+                cues.depth_strength.clamp(0.0, 1.0)
+            } else {
+                0.0
+            },
+            0.0,
+        ];
+        // Light space: the light looks down −z at the scene's centre.
+        let turn = DQuat::from_rotation_arc(l, DVec3::Z);
+        let light_view = DMat4::from_quat(turn) * DMat4::from_translation(-centre);
+        Lighting {
+            light: [l.x as f32, l.y as f32, l.z as f32, params.ambient],
+            fog,
+            light_view: light_view.as_mat4().to_cols_array(),
+            shadow: [radius as f32, radius as f32, (2.0 * radius) as f32, 0.15],
+            shadow_b: [SHADOW_SIZE as f32, 0.85, 0.0, 0.0],
+        }
+    }
+
+    /// Writes eye `k`'s uniform for `view`.
+    fn write_eye(
+        &mut self,
+        queue: &wgpu::Queue,
+        k: usize,
+        view: &EyeView,
+        session: &Session,
+        params: &ViewParams,
+        lit: &Lighting,
+        background: [f64; 3],
+    ) {
+        let cam = session.view_camera();
+        let (near, far) = depth_range(session);
+        let x = params.stereo.eye_x(view.eye, cam.distance);
+        let proj = if x == 0.0 {
+            perspective(cam.fov_y, view.aspect, near, far)
+        } else {
+            let d = params.stereo.convergence_distance(cam.distance);
+            off_axis(cam.fov_y, view.aspect, near, far, x, d)
+        };
         let h = colors::HIGHLIGHT;
         let frame = FrameUniform {
-            proj: projection(session, params.aspect).to_cols_array(),
-            light: [light.x, light.y, light.z, params.ambient],
+            proj: proj.as_mat4().to_cols_array(),
+            light: lit.light,
             highlight: [h[0], h[1], h[2], 1.0],
+            eye: [x as f32, 0.0, 0.0, 0.0],
+            fog: lit.fog,
+            background: [
+                background[0] as f32,
+                background[1] as f32,
+                background[2] as f32,
+                1.0,
+            ],
+            light_view: lit.light_view,
+            shadow: lit.shadow,
+            shadow_b: lit.shadow_b,
         };
-        queue.write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
-        let mvs: Vec<[f32; 16]> = model_views(session)
-            .iter()
-            .map(Mat4::to_cols_array)
-            .collect();
-        if !mvs.is_empty() {
-            queue.write_buffer(&self.mv_buf, 0, bytemuck::cast_slice(&mvs));
-        }
-        self.stats.matrix_bytes += (std::mem::size_of::<FrameUniform>() + mvs.len() * 64) as u64;
+        queue.write_buffer(&self.eyes[k].0, 0, bytemuck::bytes_of(&frame));
+        self.stats.matrix_bytes += std::mem::size_of::<FrameUniform>() as u64;
     }
 
     /// Applies highlight changes `(molecule, atom, in contact)`, rewriting
@@ -310,54 +355,274 @@ impl SphereRenderer {
         self.apply_highlights(queue, &changes);
     }
 
-    /// Records the draw call into `pass`.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
-        if self.n_atoms == 0 {
-            return;
+    /// Records one eye's draws into `pass` (its viewport already set).
+    fn draw_eye(
+        &mut self,
+        device: &wgpu::Device,
+        pass: &mut wgpu::RenderPass<'_>,
+        k: usize,
+        params: &ViewParams,
+    ) {
+        let cues = params.cues;
+        let key = |role| SphereKey {
+            role,
+            depth_cue: cues.depth,
+            shadow: cues.shadow,
+        };
+        pass.set_bind_group(0, &self.eyes[k].1, &[]);
+        if cues.shadow {
+            let shadow = self.pipelines.shadow(device);
+            pass.set_bind_group(1, &shadow.bind_group, &[]);
         }
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.bind_group, &[]);
-        pass.draw(0..6, 0..self.n_atoms);
+        let n = self.n_atoms;
+        let split = self.offsets.get(1).map_or(n, |&o| o as u32);
+        if cues.translucent && split < n {
+            // The drug (every molecule but the first) opaque; then the
+            // receptor's front surface alone in depth, then blended on top.
+            pass.set_pipeline(self.pipelines.sphere(device, key(Role::Opaque)));
+            pass.draw(0..6, split..n);
+            pass.set_pipeline(self.pipelines.sphere(device, key(Role::DepthOnly)));
+            pass.draw(0..6, 0..split);
+            pass.set_pipeline(self.pipelines.sphere(device, key(Role::Translucent)));
+            let a = f64::from(cues.opacity.clamp(0.0, 1.0));
+            pass.set_blend_constant(wgpu::Color {
+                r: a,
+                g: a,
+                b: a,
+                a,
+            });
+            pass.draw(0..6, 0..split);
+            self.last.draws += 3;
+        } else {
+            pass.set_pipeline(self.pipelines.sphere(device, key(Role::Opaque)));
+            pass.draw(0..6, 0..n);
+            self.last.draws += 1;
+        }
     }
 
-    /// Records a pass that clears `color` to `background` (linear RGB) and
-    /// the depth buffer, then draws every atom.
-    pub fn draw_scene(
-        &self,
+    /// Records the eyes of `plan` into `color` (cleared to `background`),
+    /// each in its viewport, and the screen-space pass over them.
+    #[allow(clippy::too_many_arguments)] // one frame's inputs, all needed
+    fn eye_pass(
+        &mut self,
+        device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
+        eyes: &[(usize, EyeView)],
+        params: &ViewParams,
         background: [f64; 3],
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("spheres"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: background[0],
-                        g: background[1],
-                        b: background[2],
-                        a: 1.0,
+        let post = params.cues.needs_post();
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("spheres"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: color,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: background[0],
+                            g: background[1],
+                            b: background[2],
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        // Kept only for the screen-space pass.
+                        store: if post {
+                            wgpu::StoreOp::Store
+                        } else {
+                            wgpu::StoreOp::Discard
+                        },
                     }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
+                    stencil_ops: None,
                 }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        self.draw(&mut pass);
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            self.last.passes += 1;
+            if self.n_atoms > 0 {
+                for (k, view) in eyes {
+                    let [x, y, w, h] = view.viewport;
+                    pass.set_viewport(x as f32, y as f32, w as f32, h as f32, 0.0, 1.0);
+                    self.draw_eye(device, &mut pass, *k, params);
+                }
+            }
+        }
+        if post && self.n_atoms > 0 {
+            let format = self.pipelines.format();
+            let cues = params.cues;
+            let p = self.pipelines.post(device);
+            let bind_group = p.bind_group(device, depth);
+            let pipeline = p.pipeline(device, format, cues.outline, cues.ao);
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("outlines and occlusion"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: color,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.draw(0..3, 0..1);
+            self.last.passes += 1;
+            self.last.draws += 1;
+        }
+    }
+
+    /// Records a whole frame of `session` into `color` (`width`×`height`,
+    /// the renderer's colour format) cleared to `background` (linear RGB):
+    /// the cues and stereo mode of `params` (its aspect is ignored: each
+    /// eye's comes from the stereo plan). `depth` is a
+    /// [`depth_view`] of the same size.
+    #[allow(clippy::too_many_arguments)] // one frame's inputs, all needed
+    pub fn draw_scene(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        (width, height): (u32, u32),
+        session: &Session,
+        params: &ViewParams,
+        background: [f64; 3],
+    ) -> FrameStats {
+        self.last = FrameStats::default();
+        let plan = params.stereo.plan(width, height, params.frame);
+        let lit = Self::lighting(session, params);
+        for (k, view) in plan.eyes.iter().enumerate().take(2) {
+            self.write_eye(queue, k, view, session, params, &lit, background);
+        }
+        self.last.eyes = plan.eyes.len().min(2) as u32;
+        let mvs: Vec<[f32; 16]> = model_views(session)
+            .iter()
+            .map(Mat4::to_cols_array)
+            .collect();
+        if !mvs.is_empty() {
+            queue.write_buffer(&self.mv_buf, 0, bytemuck::cast_slice(&mvs));
+        }
+        self.stats.matrix_bytes += (mvs.len() * 64) as u64;
+        if params.cues.needs_post() {
+            let (near, far) = depth_range(session);
+            let cam = session.view_camera();
+            let f = 1.0 / (0.5 * cam.fov_y).tan();
+            let (vw, vh, aspect) = plan.eyes.first().map_or((width, height, 1.0), |e| {
+                (e.viewport[2], e.viewport[3], e.aspect)
+            });
+            let post = PostUniform {
+                depth: [
+                    near as f32,
+                    far as f32,
+                    (f / aspect * f64::from(vw) / 2.0) as f32,
+                    (f * f64::from(vh) / 2.0) as f32,
+                ],
+                // Outline: depth jumps over 1 Å, 85 % dark. Occlusion: 3 Å, 70 %.
+                cue: [1.0, 0.85, 3.0, 0.7],
+            };
+            let p = self.pipelines.post(device);
+            queue.write_buffer(&p.uniform, 0, bytemuck::bytes_of(&post));
+            self.stats.matrix_bytes += std::mem::size_of::<PostUniform>() as u64;
+        }
+        if params.cues.shadow && self.n_atoms > 0 {
+            let shadow = self.pipelines.shadow(device);
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow map"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &shadow.view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&shadow.pipeline);
+            pass.set_bind_group(0, &self.eyes[0].1, &[]);
+            pass.draw(0..6, 0..self.n_atoms);
+            self.last.passes += 1;
+            self.last.draws += 1;
+        }
+        let eyes: Vec<(usize, EyeView)> = plan.eyes.iter().copied().enumerate().take(2).collect();
+        match plan.compose {
+            None => self.eye_pass(device, encoder, color, depth, &eyes, params, background),
+            Some(mode) => {
+                let format = self.pipelines.format();
+                let targets = self.pipelines.compose(device, width, height).eyes.clone();
+                for (e, target) in eyes.iter().zip(&targets) {
+                    self.eye_pass(
+                        device,
+                        encoder,
+                        target,
+                        depth,
+                        std::slice::from_ref(e),
+                        params,
+                        background,
+                    );
+                }
+                let c = self.pipelines.compose(device, width, height);
+                let bind_group = c.bind_group.clone();
+                let pipeline = c.pipeline(device, format, mode);
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("stereo composition"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: color,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.draw(0..3, 0..1);
+                self.last.passes += 1;
+                self.last.draws += 1;
+            }
+        }
+        self.last
+    }
+
+    /// Passes and draws of the last frame.
+    pub fn frame_stats(&self) -> FrameStats {
+        self.last
+    }
+
+    /// Which optional resources exist: each is made only when its cue or
+    /// mode is first used.
+    pub fn resources(&self) -> Resources {
+        Resources {
+            shadow_map: self.pipelines.shadow.is_some(),
+            post: self.pipelines.post.is_some(),
+            eye_textures: self.pipelines.compose.is_some(),
+        }
     }
 
     /// What was uploaded so far.

@@ -2,21 +2,30 @@
 //! uses (f32): one model-view per molecule and one projection.
 //!
 //! Composing in f64 before rounding keeps atoms far from the world origin
-//! exact on screen: only coordinates relative to the eye reach f32.
+//! exact on screen: only coordinates relative to the eye reach f32. The
+//! camera is the session's *view* camera, rocking included.
 
 use glam::{DMat4, DVec3, Mat4};
 
+use super::cues::Cues;
+use super::stereo::Stereo;
 use crate::session::Session;
 
-/// Camera and lighting inputs for a frame.
+/// Camera, lighting, depth-cue and stereo inputs for a frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ViewParams {
-    /// Width / height of the image.
+    /// Width / height of the image (mono).
     pub aspect: f64,
     /// Direction towards the light, view space (normalised here).
     pub light: DVec3,
     /// Share of ambient light, 0..1.
     pub ambient: f32,
+    /// The depth cues drawn.
+    pub cues: Cues,
+    /// The stereo mode and eye geometry.
+    pub stereo: Stereo,
+    /// Frame number (frame-sequential stereo shows the left eye on even frames).
+    pub frame: u64,
 }
 
 impl Default for ViewParams {
@@ -25,13 +34,16 @@ impl Default for ViewParams {
             aspect: 1.0,
             light: DVec3::new(-0.35, 0.55, 0.75),
             ambient: 0.25,
+            cues: Cues::default(),
+            stereo: Stereo::default(),
+            frame: 0,
         }
     }
 }
 
 /// Model-view matrix of every molecule.
 pub fn model_views(session: &Session) -> Vec<Mat4> {
-    let view = session.camera().view_matrix();
+    let view = session.view_camera().view_matrix();
     session
         .bodies()
         .iter()
@@ -48,7 +60,7 @@ pub fn depth_range(session: &Session) -> (f64, f64) {
     if session.bodies().is_empty() {
         return (0.1, 1000.0);
     }
-    let view = session.camera().view_matrix();
+    let view = session.view_camera().view_matrix();
     let mut near = f64::INFINITY;
     let mut far: f64 = 0.0;
     for b in session.bodies() {
@@ -61,6 +73,36 @@ pub fn depth_range(session: &Session) -> (f64, f64) {
     // Keep near positive and the depth buffer's precision usable.
     let near = near.max(far * 1e-4).max(0.05);
     (near, far.max(near * 2.0))
+}
+
+/// A sphere holding every atom, in view space: centre and radius (Å).
+pub fn scene_sphere(session: &Session) -> (DVec3, f64) {
+    let view = session.view_camera().view_matrix();
+    let spheres: Vec<(DVec3, f64)> = session
+        .bodies()
+        .iter()
+        .map(|b| {
+            (
+                view.transform_point3(b.pose.translation),
+                b.molecule.bounding_radius() + 1.0,
+            )
+        })
+        .collect();
+    if spheres.is_empty() {
+        return (DVec3::new(0.0, 0.0, -session.camera().distance), 1.0);
+    }
+    let lo = spheres
+        .iter()
+        .fold(DVec3::INFINITY, |m, (c, r)| m.min(*c - DVec3::splat(*r)));
+    let hi = spheres.iter().fold(DVec3::NEG_INFINITY, |m, (c, r)| {
+        m.max(*c + DVec3::splat(*r))
+    });
+    let centre = 0.5 * (lo + hi);
+    let radius = spheres
+        .iter()
+        .map(|(c, r)| (*c - centre).length() + r)
+        .fold(1.0, f64::max);
+    (centre, radius)
 }
 
 /// A right-handed perspective projection with depth 0 (near) to 1 (far), as
@@ -90,7 +132,7 @@ pub fn perspective(fov_y: f64, aspect: f64, near: f64, far: f64) -> DMat4 {
 /// The projection for `session`'s camera and scene.
 pub fn projection(session: &Session, aspect: f64) -> Mat4 {
     let (near, far) = depth_range(session);
-    perspective(session.camera().fov_y, aspect, near, far).as_mat4()
+    perspective(session.view_camera().fov_y, aspect, near, far).as_mat4()
 }
 
 #[cfg(test)]

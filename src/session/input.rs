@@ -89,6 +89,26 @@ pub enum Command {
     },
     /// `q`, Escape, window closed.
     Quit,
+    /// Rocking of the view on/off.
+    ToggleRocking,
+    /// Rock with a wider swing.
+    RockMore,
+    /// Rock with a narrower swing.
+    RockLess,
+}
+
+impl Command {
+    /// Whether the command moves a molecule or the view (rocking pauses).
+    pub fn moves_something(&self) -> bool {
+        matches!(
+            self,
+            Command::Undo
+                | Command::Redo
+                | Command::ResetMolecule
+                | Command::ResetView
+                | Command::MoveBy { .. }
+        )
+    }
 }
 
 /// Everything one frame asks for.

@@ -330,6 +330,9 @@ pub fn command_token(c: &Command) -> String {
             "move:{:?},{:?},{:?},{:?},{:?},{:?},{degrees:?}",
             t.x, t.y, t.z, a.x, a.y, a.z
         ),
+        Command::ToggleRocking => "rock".into(),
+        Command::RockMore => "rock-more".into(),
+        Command::RockLess => "rock-less".into(),
         Command::Quit => "quit".into(),
     }
 }
@@ -372,6 +375,9 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
                 degrees,
             })
         }
+        "rock" => no_arg(Command::ToggleRocking),
+        "rock-more" => no_arg(Command::RockMore),
+        "rock-less" => no_arg(Command::RockLess),
         "quit" => no_arg(Command::Quit),
         _ => Err(format!("unknown command `{tok}`")),
     }
@@ -572,6 +578,9 @@ mod tests {
                             Command::Redo,
                             Command::ResetMolecule,
                             Command::ResetView,
+                            Command::ToggleRocking,
+                            Command::RockMore,
+                            Command::RockLess,
                             Command::MoveBy {
                                 translate: DVec3::new(1.5, -2.0, 1e-9),
                                 axis: DVec3::Y,

@@ -38,7 +38,7 @@ use crate::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, Method, Response, TouchOptions, respond,
 };
 use crate::model::Molecule;
-use crate::motion::Pose;
+use crate::motion::{Pose, Rock};
 
 /// What the devices move.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -217,6 +217,7 @@ pub struct Session {
     /// Per molecule, per atom: in contact now.
     highlighted: Vec<Vec<bool>>,
     contacts: Vec<Contact>,
+    rock: Rock,
 }
 
 impl Session {
@@ -283,6 +284,7 @@ impl Session {
             env: None,
             highlighted,
             contacts: Vec::new(),
+            rock: Rock::default(),
         }
     }
 
@@ -347,9 +349,39 @@ impl Session {
         &self.camera
     }
 
-    /// The camera, to change directly (framing options, window resizes).
+    /// The camera, to change directly (framing options, mouse drags): a
+    /// user move, so rocking pauses with its angle kept in the camera.
     pub fn camera_mut(&mut self) -> &mut Camera {
+        self.pause_rocking();
         &mut self.camera
+    }
+
+    /// The camera as drawn: [`Session::camera`] turned by the rocking angle
+    /// about the screen's vertical axis.
+    pub fn view_camera(&self) -> Camera {
+        let mut c = self.camera;
+        let a = self.rock.angle();
+        if a != 0.0 {
+            c.rotation = (glam::DQuat::from_rotation_y(a) * c.rotation).normalize();
+        }
+        c
+    }
+
+    /// The rocking state.
+    pub fn rock(&self) -> &Rock {
+        &self.rock
+    }
+
+    /// Keeps the view where it is and pauses rocking (the user moves).
+    fn pause_rocking(&mut self) {
+        let a = self.rock.pause();
+        self.bake_rock(a);
+    }
+
+    fn bake_rock(&mut self, angle: f64) {
+        if angle != 0.0 {
+            self.camera.move_scene(DVec3::ZERO, DVec3::Y * angle);
+        }
     }
 
     /// Contacts of the selected molecule after the last frame.
@@ -377,6 +409,14 @@ impl Session {
             t: 1.0,
             ..FrameOutcome::default()
         };
+        // Rocking pauses while the user moves anything, keeping the view.
+        let user_moves =
+            !(input.velocity.is_zero() && input.nudge.is_zero() && input.object_nudge.is_zero())
+                || input.commands.iter().any(Command::moves_something);
+        if user_moves && self.rock.is_on() {
+            self.pause_rocking();
+        }
+        out.changed |= self.rock.advance(dt_clamped(dt));
         for c in &input.commands {
             self.command(*c, &mut out);
         }
@@ -529,6 +569,25 @@ impl Session {
                 }
             }
             Command::Quit => out.quit = true,
+            Command::ToggleRocking => {
+                let a = self.rock.toggle();
+                self.bake_rock(a);
+                let deg = self.rock.amplitude().to_degrees();
+                out.messages.push(if self.rock.is_on() {
+                    format!("rocking on (±{deg:.0}°)")
+                } else {
+                    "rocking off".into()
+                });
+            }
+            Command::RockMore | Command::RockLess => {
+                if c == Command::RockMore {
+                    self.rock.more();
+                } else {
+                    self.rock.less();
+                }
+                let deg = self.rock.amplitude().to_degrees();
+                out.messages.push(format!("rocking ±{deg:.1}°"));
+            }
         }
     }
 

@@ -10,7 +10,9 @@
 use std::path::Path;
 use std::time::Instant;
 
-use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, check, move_to_touch};
+use bump::collide::{
+    Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, check, move_to_touch,
+};
 use bump::model::{self, LoadOptions, Molecule};
 use bump::motion::Pose;
 use glam::DVec3;
@@ -35,7 +37,11 @@ const DRUG_SIZES: [usize; 5] = [10, 20, 50, 100, 200];
 const DRUG_SWEEP_RECEPTOR: &str = "4kya.pdb.gz";
 
 fn receptors(ctx: &Context) -> &'static [&'static str] {
-    if ctx.quick { &RECEPTORS[..2] } else { &RECEPTORS }
+    if ctx.quick {
+        &RECEPTORS[..2]
+    } else {
+        &RECEPTORS
+    }
 }
 
 /// Number of progress steps [`run`] takes.
@@ -93,7 +99,14 @@ struct Timing {
     touched: bool,
 }
 
-fn time_all(ctx: &Context, rule: &ContactRule, receptor: &Molecule, drug: &Molecule, start: &Pose, end: &Pose) -> Timing {
+fn time_all(
+    ctx: &Context,
+    rule: &ContactRule,
+    receptor: &Molecule,
+    drug: &Molecule,
+    start: &Pose,
+    end: &Pose,
+) -> Timing {
     let mut t = Timing {
         check: [0.0; 3],
         touch: [0.0; 3],
@@ -114,24 +127,36 @@ fn time_all(ctx: &Context, rule: &ContactRule, receptor: &Molecule, drug: &Molec
         let col = Collider::build(receptor, rule, kind);
         let atoms = DrugAtoms::new(drug, rule, col.max_radius());
         // Brute force on 272k atoms takes milliseconds: fewer repetitions.
-        let reps = if kind == ColliderKind::Brute { ctx.reps.min(5) } else { ctx.reps };
+        let reps = if kind == ColliderKind::Brute {
+            ctx.reps.min(5)
+        } else {
+            ctx.reps
+        };
         let inner = if kind == ColliderKind::Brute { 1 } else { 20 };
         t.check[k] = median_us(reps, inner, || check(&col, &atoms, end));
-        t.touch[k] = median_us(reps, inner, || move_to_touch(&col, &atoms, start, end, &opts));
+        t.touch[k] = median_us(reps, inner, || {
+            move_to_touch(&col, &atoms, start, end, &opts)
+        });
         if kind == ColliderKind::Hashed {
             t.touched = move_to_touch(&col, &atoms, start, end, &opts).t < 1.0;
             let thesis = TouchOptions {
                 method: Method::Thesis,
                 ..opts
             };
-            t.thesis = median_us(reps, inner, || move_to_touch(&col, &atoms, start, end, &thesis));
+            t.thesis = median_us(reps, inner, || {
+                move_to_touch(&col, &atoms, start, end, &thesis)
+            });
         }
     }
     t
 }
 
 /// One series per collider (from `first` on) of the figure `pick` chooses.
-fn per_collider(data: &[(f64, &Timing)], pick: impl Fn(&Timing) -> [f64; 3], first: usize) -> Vec<Series> {
+fn per_collider(
+    data: &[(f64, &Timing)],
+    pick: impl Fn(&Timing) -> [f64; 3],
+    first: usize,
+) -> Vec<Series> {
     ColliderKind::ALL[first..]
         .iter()
         .enumerate()
@@ -277,7 +302,9 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
                 ));
             }
         }
-        Err(e) => md.push_str(&format!("\nDrug-size sweep skipped: {DRUG_SWEEP_RECEPTOR}: {e}\n")),
+        Err(e) => md.push_str(&format!(
+            "\nDrug-size sweep skipped: {DRUG_SWEEP_RECEPTOR}: {e}\n"
+        )),
     }
     md.push_str("\n![scaling](bench/scaling.svg)\n");
     let by_receptor: Vec<(f64, &Timing)> = rows.iter().map(|(_, n, t)| (*n as f64, t)).collect();
@@ -295,10 +322,22 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
         x_floor: 0.0,
     };
     let panels = vec![
-        panel("static check vs receptor size", "receptor atoms", per_collider(&by_receptor, |t| t.check, 0)),
+        panel(
+            "static check vs receptor size",
+            "receptor atoms",
+            per_collider(&by_receptor, |t| t.check, 0),
+        ),
         panel("move-to-touch vs receptor size", "receptor atoms", touch_r),
-        panel("move-to-touch vs drug size", "drug atoms", per_collider(&by_drug, |t| t.touch, 0)),
-        panel("collider build vs atoms", "receptor atoms", per_collider(&by_receptor, |t| t.build, 1)),
+        panel(
+            "move-to-touch vs drug size",
+            "drug atoms",
+            per_collider(&by_drug, |t| t.touch, 0),
+        ),
+        panel(
+            "collider build vs atoms",
+            "receptor atoms",
+            per_collider(&by_receptor, |t| t.build, 1),
+        ),
     ];
     Section {
         markdown: md,

@@ -40,7 +40,9 @@ const PLOT_W: f64 = 300.0;
 const PLOT_H: f64 = 280.0;
 
 fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 /// Decade range `[10^a, 10^b]` covering the positive values in `v`.
@@ -86,7 +88,10 @@ pub fn figure(panels: &[Panel]) -> String {
 
 fn panel(s: &mut String, p: &Panel, x0: f64) {
     let floor = |x: f64| if x < p.x_floor { p.x_floor } else { x };
-    let xs = p.series.iter().flat_map(|r| r.points.iter().map(|q| floor(q.0)));
+    let xs = p
+        .series
+        .iter()
+        .flat_map(|r| r.points.iter().map(|q| floor(q.0)));
     let ys = p.series.iter().flat_map(|r| r.points.iter().map(|q| q.1));
     let (xa, xb) = decades(xs);
     let (ya, yb) = decades(ys);

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Renders the README's depth-cue and stereo pictures with `bump render`
+# (offscreen; Mesa's CPU Vulkan where there is no GPU). Run from the crate
+# root after `cargo build --release`: bash docs/images/render.sh
+set -euo pipefail
+bump=${BUMP:-target/release/bump}
+pdb=../shared/pdb/6xg5_tmp_prepared.pdb
+out=docs/images
+common=(--ligand TOP --size 480x300 --view-turn 0,1,0,60 --zoom 1.6)
+for cue in none depth outline ao shadow translucent depth,outline,ao,shadow; do
+    name=${cue//,/+}
+    "$bump" render "$pdb" "${common[@]}" --cue "$cue" -o "$out/cue-$name.png"
+done
+for mode in side-by-side side-by-side-half top-bottom top-bottom-half rows columns anaglyph frame-sequential; do
+    "$bump" render "$pdb" "${common[@]}" --stereo "$mode" --eye-sep 0.06 -o "$out/stereo-$mode.png"
+done
