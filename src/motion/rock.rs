@@ -73,8 +73,9 @@ impl Rock {
         }
     }
 
-    /// The half-swing rocking is heading for, radians.
-    pub fn amplitude(&self) -> f64 {
+    /// The half-swing rocking is heading for, radians (the swing eases
+    /// towards it).
+    pub fn target_amplitude(&self) -> f64 {
         self.target
     }
 
@@ -122,7 +123,7 @@ impl Rock {
 
     /// Advances `dt` seconds (finite, ≥ 0). Returns whether the angle changed.
     pub fn advance(&mut self, dt: f64) -> bool {
-        if !self.on || !(dt.is_finite() && dt > 0.0) {
+        if !(self.on && dt.is_finite() && dt > 0.0) {
             return false;
         }
         let before = self.angle();
@@ -181,7 +182,7 @@ mod tests {
         let dt = 1.0 / 60.0;
         for i in 0..6000 {
             match i % 997 {
-                100 | 101 | 102 => baked += r.pause(),
+                100..=102 => baked += r.pause(),
                 300 => r.more(),
                 301 => r.more(),
                 500 => baked += r.toggle(),
@@ -238,11 +239,11 @@ mod tests {
         for _ in 0..50 {
             r.more();
         }
-        assert_eq!(r.amplitude(), MAX_AMPLITUDE);
+        assert_eq!(r.target_amplitude(), MAX_AMPLITUDE);
         for _ in 0..50 {
             r.less();
         }
-        assert_eq!(r.amplitude(), MIN_AMPLITUDE);
+        assert_eq!(r.target_amplitude(), MIN_AMPLITUDE);
     }
 
     #[test]

@@ -399,11 +399,10 @@ impl Pipelines {
             .compose
             .as_ref()
             .is_some_and(|c| c.size != (width, height))
+            && let Some(old) = self.compose.take()
         {
-            if let Some(old) = self.compose.take() {
-                let fresh = ComposePass::with_eyes(device, self.format, old, width, height);
-                self.compose = Some(fresh);
-            }
+            let fresh = ComposePass::with_eyes(device, self.format, old, width, height);
+            self.compose = Some(fresh);
         }
         let format = self.format;
         self.compose.get_or_insert_with(|| {

@@ -262,6 +262,7 @@ impl SphereRenderer {
     }
 
     /// Writes eye `k`'s uniform for `view`.
+    #[allow(clippy::too_many_arguments)] // one eye's inputs, all needed
     fn write_eye(
         &mut self,
         queue: &wgpu::Queue,

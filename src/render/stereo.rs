@@ -206,9 +206,11 @@ impl Stereo {
         let (hw, hh) = (w / 2, h / 2);
         match self.mode {
             StereoMode::Mono => direct(vec![whole(Eye::Centre)]),
-            StereoMode::FrameSequential => {
-                direct(vec![whole(if frame % 2 == 0 { first } else { second })])
-            }
+            StereoMode::FrameSequential => direct(vec![whole(if frame.is_multiple_of(2) {
+                first
+            } else {
+                second
+            })]),
             StereoMode::SideBySide | StereoMode::SideBySideHalf => {
                 let a = if self.mode == StereoMode::SideBySide {
                     aspect(hw, h)

@@ -572,7 +572,7 @@ impl Session {
             Command::ToggleRocking => {
                 let a = self.rock.toggle();
                 self.bake_rock(a);
-                let deg = self.rock.amplitude().to_degrees();
+                let deg = self.rock.target_amplitude().to_degrees();
                 out.messages.push(if self.rock.is_on() {
                     format!("rocking on (±{deg:.0}°)")
                 } else {
@@ -585,7 +585,7 @@ impl Session {
                 } else {
                     self.rock.less();
                 }
-                let deg = self.rock.amplitude().to_degrees();
+                let deg = self.rock.target_amplitude().to_degrees();
                 out.messages.push(format!("rocking ±{deg:.1}°"));
             }
         }
