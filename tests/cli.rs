@@ -230,8 +230,11 @@ fn bench_writes_a_report_with_figures_and_keeps_the_manual_sections() {
     std::fs::create_dir_all(&dir).expect("temp dir");
     let out = dir.join("report.md");
     let marker = "<!-- Sections below are kept as they are by `bump bench`. -->";
-    std::fs::write(&out, format!("old generated text\n{marker}\n## Hand-measured\nkeep me\n"))
-        .expect("write");
+    std::fs::write(
+        &out,
+        format!("old generated text\n{marker}\n## Hand-measured\nkeep me\n"),
+    )
+    .expect("write");
     let data = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb");
     let run = bump(&[
         "bench",

@@ -284,11 +284,16 @@ mod tests {
         let screw = Screw::between(start, end);
         // Both ends are free; the middle passes through the atom.
         let fault = certify_free_path(&rule, &r, &d, &screw, 1.0).expect_err("hits");
-        assert!(fault.gap <= 0.0 && (fault.t - 0.5).abs() < 0.01, "{fault:?}");
+        assert!(
+            fault.gap <= 0.0 && (fault.t - 0.5).abs() < 0.01,
+            "{fault:?}"
+        );
         // Up to just before contact it is free.
         let t = translation_toi(&rule, &r, &d, &start, end.translation - start.translation)
             .expect("hit");
         assert!(certify_free_path(&rule, &r, &d, &screw, t - 1e-6).is_ok());
-        assert!(dense_screw_toi(&rule, &r, &d, &screw, 1000).is_some_and(|td| (td - t).abs() < 1e-9));
+        assert!(
+            dense_screw_toi(&rule, &r, &d, &screw, 1000).is_some_and(|td| (td - t).abs() < 1e-9)
+        );
     }
 }

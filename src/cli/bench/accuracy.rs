@@ -12,7 +12,9 @@
 //! no N/O allowance, which is what parry3d's balls of radius `r − 0.3` model.
 
 use bump::collide::oracle::{closed_form_touch, min_gap, translation_toi};
-use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, check, move_to_touch};
+use bump::collide::{
+    Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, check, move_to_touch,
+};
 use bump::model::{self, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
 use bump::motion::Pose;
 use glam::DVec3;
@@ -147,11 +149,18 @@ fn cases(ctx: &Context, rule: &ContactRule, n: usize) -> (Vec<Case>, Vec<String>
     let file = e.centre - rings.centre;
     let q = queries(rule, &rings, &e, n, 0xe5, |rng| {
         let start = Pose::from_translation(file).moved(
-            DVec3::new(rng.range(-6.0, 6.0), rng.range(-6.0, 6.0), rng.range(-5.0, 0.0)),
+            DVec3::new(
+                rng.range(-6.0, 6.0),
+                rng.range(-6.0, 6.0),
+                rng.range(-5.0, 0.0),
+            ),
             rng.unit(),
             rng.range(-0.3, 0.3),
         );
-        (start, DVec3::new(0.0, 0.0, rng.range(20.0, 30.0)) + rng.unit())
+        (
+            start,
+            DVec3::new(0.0, 0.0, rng.range(20.0, 30.0)) + rng.unit(),
+        )
     });
     out.push(Case {
         name: "built-in E into the triple ring",
@@ -220,7 +229,11 @@ fn measure(ctx: &Context, rule: &ContactRule, case: &Case, kind: Kind) -> Row {
     let run = |s: &Pose, e: &Pose| -> f64 {
         match kind {
             Kind::Swept(k, tolerance) => {
-                let col = if k == ColliderKind::Grid { &grid } else { &hashed };
+                let col = if k == ColliderKind::Grid {
+                    &grid
+                } else {
+                    &hashed
+                };
                 let opts = TouchOptions {
                     tolerance,
                     method: Method::Swept,
@@ -320,8 +333,14 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
             .queries
             .iter()
             .filter(|(s, e)| {
-                translation_toi(&rule, &case.receptor, &case.drug, s, e.translation - s.translation)
-                    .is_some()
+                translation_toi(
+                    &rule,
+                    &case.receptor,
+                    &case.drug,
+                    s,
+                    e.translation - s.translation,
+                )
+                .is_some()
             })
             .count();
         let base = rows
@@ -384,7 +403,10 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
             let p = (r.p95_err, r.median_us);
             match series.iter_mut().find(|s| s.name == name) {
                 Some(s) => s.points.push(p),
-                None => series.push(Series { name, points: vec![p] }),
+                None => series.push(Series {
+                    name,
+                    points: vec![p],
+                }),
             }
         }
         panels.push(Panel {
@@ -404,7 +426,7 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
     );
     Section {
         markdown: md,
-        figures: vec![("time_vs_error.svg".into(), super::svg::figure(&panels))],
+        figures: vec![("time_vs_error.svg".into(), super::svg::figure(&panels, 2))],
         headline,
     }
 }

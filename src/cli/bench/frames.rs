@@ -33,7 +33,12 @@ struct Tally {
 }
 
 /// Steps `s` through `n` frames of `input(k)`, timing batches of 100.
-fn tally(label: &'static str, s: &mut Session, n: usize, input: impl Fn(usize) -> FrameInput) -> Tally {
+fn tally(
+    label: &'static str,
+    s: &mut Session,
+    n: usize,
+    input: impl Fn(usize) -> FrameInput,
+) -> Tally {
     let mut t = Tally {
         label,
         frames: n,
@@ -74,8 +79,11 @@ fn commands(c: &[Command]) -> FrameInput {
 
 /// A small back-and-forth wiggle of the drug (it stays where it is on average).
 fn wiggle(k: usize) -> FrameInput {
-    let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
-    nudge(DVec3::new(0.01, 0.005, 0.0) * sign, DVec3::new(0.0, 0.0, 1e-3) * sign)
+    let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
+    nudge(
+        DVec3::new(0.01, 0.005, 0.0) * sign,
+        DVec3::new(0.0, 0.0, 1e-3) * sign,
+    )
 }
 
 fn scenes(ctx: &Context) -> Vec<(String, Vec<Molecule>)> {
@@ -89,7 +97,10 @@ fn scenes(ctx: &Context) -> Vec<(String, Vec<Molecule>)> {
                 model::split_complex(&l.structure, &spec).ok()
             });
         if let Some((r, d)) = parts {
-            v.push((format!("DHFR + trimethoprim ({} atoms)", r.len() + d.len()), vec![r, d]));
+            v.push((
+                format!("DHFR + trimethoprim ({} atoms)", r.len() + d.len()),
+                vec![r, d],
+            ));
         }
     }
     v
@@ -121,20 +132,32 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
         let mut rows = Vec::new();
         // Collision off (the default), view mode.
         let mut s = base.clone();
-        rows.push(tally("idle, collision off", &mut s, n, |_| FrameInput::default()));
+        rows.push(tally("idle, collision off", &mut s, n, |_| {
+            FrameInput::default()
+        }));
         s.step(&commands(&[Command::ToggleMode]), 0.0);
         rows.push(tally("drug moving, collision off", &mut s, n, wiggle));
         // Collision on.
         let mut s = base.clone();
         s.step(&commands(&[Command::ToggleCollision]), 0.0);
-        rows.push(tally("idle, collision on", &mut s, n, |_| FrameInput::default()));
-        rows.push(tally("camera moving (view mode), collision on", &mut s, n, wiggle));
+        rows.push(tally("idle, collision on", &mut s, n, |_| {
+            FrameInput::default()
+        }));
+        rows.push(tally(
+            "camera moving (view mode), collision on",
+            &mut s,
+            n,
+            wiggle,
+        ));
         s.step(&commands(&[Command::ToggleMode]), 0.0);
         rows.push(tally("drug moving, collision on", &mut s, n, wiggle));
         let sel = s.selected();
-        rows.push(tally("re-selecting the selected molecule, collision on", &mut s, n.min(2000), |_| {
-            commands(&[Command::Select(sel)])
-        }));
+        rows.push(tally(
+            "re-selecting the selected molecule, collision on",
+            &mut s,
+            n.min(2000),
+            |_| commands(&[Command::Select(sel)]),
+        ));
         // Push the drug into its receptor until it is blocked, then keep pushing.
         let dir = {
             let b = s.bodies();
@@ -143,9 +166,12 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
         for _ in 0..2000 {
             s.step(&nudge(dir * 0.05, DVec3::ZERO), 0.016);
         }
-        rows.push(tally("pushing into a contact (blocked), collision on", &mut s, n, |_| {
-            nudge(dir * 0.05, DVec3::ZERO)
-        }));
+        rows.push(tally(
+            "pushing into a contact (blocked), collision on",
+            &mut s,
+            n,
+            |_| nudge(dir * 0.05, DVec3::ZERO),
+        ));
         for r in &rows {
             md.push_str(&format!(
                 "| {name} | {} | {} | {} | {} | {} |\n",
@@ -209,14 +235,18 @@ fn uploads(headline: &mut Vec<String>) -> String {
         return "\nRenderer uploads: skipped, rendering failed.\n".into();
     }
     let created = off.spheres.upload_stats();
-    s.step(&commands(&[Command::ToggleMode, Command::ToggleCollision]), 0.0);
+    s.step(
+        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        0.0,
+    );
     let frames = 100;
     let mut drawn = 0;
     for k in 0..frames {
         // Towards the rings and back: contacts begin and end on the way.
         let z = if k < frames / 2 { 0.6 } else { -0.6 };
         let out = s.step(&nudge(DVec3::new(0.0, 0.1, z), DVec3::ZERO), 0.016);
-        off.spheres.apply_highlights(&gpu.queue, &out.highlight_changes);
+        off.spheres
+            .apply_highlights(&gpu.queue, &out.highlight_changes);
         if out.changed && off.render(&gpu, &s, &params).is_ok() {
             drawn += 1;
         }

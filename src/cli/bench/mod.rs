@@ -84,7 +84,11 @@ impl Section {
 
 /// Runs `bump bench`.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
-    let data = args.data.join("MANIFEST.md").is_file().then(|| args.data.clone());
+    let data = args
+        .data
+        .join("MANIFEST.md")
+        .is_file()
+        .then(|| args.data.clone());
     if data.is_none() {
         eprintln!(
             "bump: warning: {} not found: only the built-in scene is measured",
@@ -93,13 +97,22 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     }
     let ctx = Context {
         data,
-        queries: if args.quick { args.queries.min(20) } else { args.queries.max(1) },
-        reps: if args.quick { args.reps.min(3) } else { args.reps.max(1) },
+        queries: if args.quick {
+            args.queries.min(20)
+        } else {
+            args.queries.max(1)
+        },
+        reps: if args.quick {
+            args.reps.min(3)
+        } else {
+            args.reps.max(1)
+        },
         quick: args.quick,
     };
     let kept = keep_manual(&args.out)?;
     let t0 = Instant::now();
-    let total = accuracy::steps(&ctx) + scaling::steps(&ctx) + table1::steps(&ctx) + frames::steps(&ctx);
+    let total =
+        accuracy::steps(&ctx) + scaling::steps(&ctx) + table1::steps(&ctx) + frames::steps(&ctx);
     let mut progress = timing::Progress::new(total);
     let sections = vec![
         accuracy::run(&ctx, &mut progress),
@@ -111,21 +124,28 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let report = assemble(&ctx, &sections, t0.elapsed().as_secs_f64(), &kept);
     let dir = args.out.parent().unwrap_or(Path::new("."));
     let figures = dir.join("bench");
-    std::fs::create_dir_all(&figures).with_context(|| format!("cannot create {}", figures.display()))?;
+    std::fs::create_dir_all(&figures)
+        .with_context(|| format!("cannot create {}", figures.display()))?;
     for s in &sections {
         for (name, text) in &s.figures {
             bump::model::write::write_atomically(&figures.join(name), text.as_bytes())?;
         }
     }
     bump::model::write::write_atomically(&args.out, report.as_bytes())?;
-    eprintln!("bump: wrote {} and its figures in {}", args.out.display(), figures.display());
+    eprintln!(
+        "bump: wrote {} and its figures in {}",
+        args.out.display(),
+        figures.display()
+    );
     Ok(())
 }
 
 /// The kept tail of an existing report (from [`KEEP_MARKER`] on), or nothing.
 fn keep_manual(out: &Path) -> anyhow::Result<String> {
     match std::fs::read_to_string(out) {
-        Ok(text) => Ok(text.find(KEEP_MARKER).map_or_else(String::new, |k| text[k..].to_string())),
+        Ok(text) => Ok(text
+            .find(KEEP_MARKER)
+            .map_or_else(String::new, |k| text[k..].to_string())),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(String::new()),
         Err(e) => Err(e).with_context(|| format!("cannot read {}", out.display())),
     }

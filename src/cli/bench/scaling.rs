@@ -10,7 +10,9 @@
 use std::path::Path;
 use std::time::Instant;
 
-use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, check, move_to_touch};
+use bump::collide::{
+    Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, check, move_to_touch,
+};
 use bump::model::{self, LoadOptions, Molecule};
 use bump::motion::Pose;
 use glam::DVec3;
@@ -35,7 +37,11 @@ const DRUG_SIZES: [usize; 5] = [10, 20, 50, 100, 200];
 const DRUG_SWEEP_RECEPTOR: &str = "4kya.pdb.gz";
 
 fn receptors(ctx: &Context) -> &'static [&'static str] {
-    if ctx.quick { &RECEPTORS[..2] } else { &RECEPTORS }
+    if ctx.quick {
+        &RECEPTORS[..2]
+    } else {
+        &RECEPTORS
+    }
 }
 
 /// Number of progress steps [`run`] takes.
@@ -93,7 +99,14 @@ struct Timing {
     touched: bool,
 }
 
-fn time_all(ctx: &Context, rule: &ContactRule, receptor: &Molecule, drug: &Molecule, start: &Pose, end: &Pose) -> Timing {
+fn time_all(
+    ctx: &Context,
+    rule: &ContactRule,
+    receptor: &Molecule,
+    drug: &Molecule,
+    start: &Pose,
+    end: &Pose,
+) -> Timing {
     let mut t = Timing {
         check: [0.0; 3],
         touch: [0.0; 3],
@@ -114,30 +127,38 @@ fn time_all(ctx: &Context, rule: &ContactRule, receptor: &Molecule, drug: &Molec
         let col = Collider::build(receptor, rule, kind);
         let atoms = DrugAtoms::new(drug, rule, col.max_radius());
         // Brute force on 272k atoms takes milliseconds: fewer repetitions.
-        let reps = if kind == ColliderKind::Brute { ctx.reps.min(5) } else { ctx.reps };
+        let reps = if kind == ColliderKind::Brute {
+            ctx.reps.min(5)
+        } else {
+            ctx.reps
+        };
         let inner = if kind == ColliderKind::Brute { 1 } else { 20 };
         t.check[k] = median_us(reps, inner, || check(&col, &atoms, end));
-        t.touch[k] = median_us(reps, inner, || move_to_touch(&col, &atoms, start, end, &opts));
+        t.touch[k] = median_us(reps, inner, || {
+            move_to_touch(&col, &atoms, start, end, &opts)
+        });
         if kind == ColliderKind::Hashed {
             t.touched = move_to_touch(&col, &atoms, start, end, &opts).t < 1.0;
             let thesis = TouchOptions {
                 method: Method::Thesis,
                 ..opts
             };
-            t.thesis = median_us(reps, inner, || move_to_touch(&col, &atoms, start, end, &thesis));
+            t.thesis = median_us(reps, inner, || {
+                move_to_touch(&col, &atoms, start, end, &thesis)
+            });
         }
     }
     t
 }
 
-/// One series per collider (from `first` on) of the figure `pick` chooses.
-fn per_collider(data: &[(f64, &Timing)], pick: impl Fn(&Timing) -> [f64; 3], first: usize) -> Vec<Series> {
-    ColliderKind::ALL[first..]
+/// One series per collider of the figure `pick` chooses.
+fn per_collider(data: &[(f64, &Timing)], pick: impl Fn(&Timing) -> [f64; 3]) -> Vec<Series> {
+    ColliderKind::ALL
         .iter()
         .enumerate()
         .map(|(k, kind)| Series {
             name: kind.name().to_string(),
-            points: data.iter().map(|(x, t)| (*x, pick(t)[first + k])).collect(),
+            points: data.iter().map(|(x, t)| (*x, pick(t)[k])).collect(),
         })
         .collect()
 }
@@ -277,12 +298,14 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
                 ));
             }
         }
-        Err(e) => md.push_str(&format!("\nDrug-size sweep skipped: {DRUG_SWEEP_RECEPTOR}: {e}\n")),
+        Err(e) => md.push_str(&format!(
+            "\nDrug-size sweep skipped: {DRUG_SWEEP_RECEPTOR}: {e}\n"
+        )),
     }
     md.push_str("\n![scaling](bench/scaling.svg)\n");
     let by_receptor: Vec<(f64, &Timing)> = rows.iter().map(|(_, n, t)| (*n as f64, t)).collect();
     let by_drug: Vec<(f64, &Timing)> = drows.iter().map(|(n, t)| (*n as f64, t)).collect();
-    let mut touch_r = per_collider(&by_receptor, |t| t.touch, 0);
+    let mut touch_r = per_collider(&by_receptor, |t| t.touch);
     touch_r.push(Series {
         name: "thesis (hashed)".into(),
         points: by_receptor.iter().map(|(x, t)| (*x, t.thesis)).collect(),
@@ -295,14 +318,26 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
         x_floor: 0.0,
     };
     let panels = vec![
-        panel("static check vs receptor size", "receptor atoms", per_collider(&by_receptor, |t| t.check, 0)),
+        panel(
+            "static check vs receptor size",
+            "receptor atoms",
+            per_collider(&by_receptor, |t| t.check),
+        ),
         panel("move-to-touch vs receptor size", "receptor atoms", touch_r),
-        panel("move-to-touch vs drug size", "drug atoms", per_collider(&by_drug, |t| t.touch, 0)),
-        panel("collider build vs atoms", "receptor atoms", per_collider(&by_receptor, |t| t.build, 1)),
+        panel(
+            "move-to-touch vs drug size",
+            "drug atoms",
+            per_collider(&by_drug, |t| t.touch),
+        ),
+        panel(
+            "collider build vs atoms",
+            "receptor atoms",
+            per_collider(&by_receptor, |t| t.build),
+        ),
     ];
     Section {
         markdown: md,
-        figures: vec![("scaling.svg".into(), super::svg::figure(&panels))],
+        figures: vec![("scaling.svg".into(), super::svg::figure(&panels, 2))],
         headline,
     }
 }

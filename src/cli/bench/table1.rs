@@ -65,7 +65,9 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
                     r.grid_centre.atoms_per_cell
                 ));
             }
-            Err(e) => md.push_str(&format!("| {name} | {atoms} | {hashed:.2} | {grid:.2} | {file} | skipped: {e} | | | | |\n")),
+            Err(e) => md.push_str(&format!(
+                "| {name} | {atoms} | {hashed:.2} | {grid:.2} | {file} | skipped: {e} | | | | |\n"
+            )),
         }
     }
     let mut headline = Vec::new();

@@ -73,17 +73,25 @@ pub fn machine() -> String {
     let read = |p: &str| std::fs::read_to_string(p).unwrap_or_default();
     let cpu = read("/proc/cpuinfo")
         .lines()
-        .find_map(|l| l.strip_prefix("model name").map(|r| r.trim_start_matches([' ', '\t', ':']).to_string()))
+        .find_map(|l| {
+            l.strip_prefix("model name")
+                .map(|r| r.trim_start_matches([' ', '\t', ':']).to_string())
+        })
         .unwrap_or_else(|| std::env::consts::ARCH.to_string());
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mem = read("/proc/meminfo")
         .lines()
         .find_map(|l| l.strip_prefix("MemTotal:").map(|r| r.trim().to_string()))
         .and_then(|r| r.trim_end_matches(" kB").trim().parse::<f64>().ok())
-        .map_or(String::new(), |kb| format!(", {:.0} GiB RAM", kb / 1024.0 / 1024.0));
+        .map_or(String::new(), |kb| {
+            format!(", {:.0} GiB RAM", kb / 1024.0 / 1024.0)
+        });
     let os = read("/etc/os-release")
         .lines()
-        .find_map(|l| l.strip_prefix("PRETTY_NAME=").map(|s| s.trim_matches('"').to_string()))
+        .find_map(|l| {
+            l.strip_prefix("PRETTY_NAME=")
+                .map(|s| s.trim_matches('"').to_string())
+        })
         .unwrap_or_else(|| std::env::consts::OS.to_string());
     let rustc = std::process::Command::new("rustc")
         .arg("--version")
@@ -128,9 +136,17 @@ impl Progress {
         let mut err = std::io::stderr().lock();
         // Progress output is best effort: a closed stderr must not stop the run.
         let _ = if self.tty {
-            write!(err, "\r\x1b[K[{bar}] {}/{} {secs:5.0} s  {label}", self.done, self.total)
+            write!(
+                err,
+                "\r\x1b[K[{bar}] {}/{} {secs:5.0} s  {label}",
+                self.done, self.total
+            )
         } else {
-            writeln!(err, "[{bar}] {}/{} {secs:5.0} s  {label}", self.done, self.total)
+            writeln!(
+                err,
+                "[{bar}] {}/{} {secs:5.0} s  {label}",
+                self.done, self.total
+            )
         };
         let _ = err.flush();
     }
