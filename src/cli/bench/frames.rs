@@ -206,6 +206,14 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
             ));
         }
     }
+    md.push_str(
+        "\nFixed after the first measurement: re-selecting the selected molecule (a click on \
+         one of its atoms) threw away its environment and rebuilt the collider every time \
+         (952 µs a frame for DHFR + trimethoprim, 16 µs for the built-in scene); the session \
+         now keeps it when the selection does not change. Idle frames and frames blocked \
+         against a contact ask for no redraw; idle frames and camera moves run no collision \
+         query; with collision off no query runs at all.\n",
+    );
     progress.step("renderer uploads");
     md.push_str(&uploads(&mut headline));
     Section {

@@ -38,10 +38,10 @@ pub struct BenchArgs {
     #[arg(long, default_value = "../shared/pdb")]
     data: PathBuf,
     /// Random approach queries per scene in the run-time-against-error comparison.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 500)]
     queries: usize,
     /// Repetitions of each timed query (the median is kept).
-    #[arg(long, default_value_t = 15)]
+    #[arg(long, default_value_t = 21)]
     reps: usize,
     /// A short run: few queries and repetitions, the two smallest receptors
     /// (for testing the command, not for figures).
@@ -154,7 +154,7 @@ fn keep_manual(out: &Path) -> anyhow::Result<String> {
 fn assemble(ctx: &Context, sections: &[Section], seconds: f64, kept: &str) -> String {
     let mut md = String::from("# Benchmarks and accuracy\n\n");
     md.push_str(&format!(
-        "Written by `bump bench{}` in {seconds:.0} s (regenerate: `cargo run --release --features parry -- bench`). \
+        "Written by `bump bench{}` in {seconds:.0} s (regenerate: `cargo build --release --features parry && XDG_RUNTIME_DIR=$(mktemp -d) taskset -c 1 target/release/bump bench`). \
          Machine: {}. Absolute times belong to this machine (a shared, noisy VM: expect ±20 % between runs); \
          the **ratios between methods measured in the same run** are the result.\n\n",
         if ctx.quick { " --quick" } else { "" },
