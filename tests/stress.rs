@@ -78,6 +78,7 @@ fn random_queries_never_overlap_tunnel_or_give_nan() {
     let (mut worst_gap, mut min_stop_gap, mut worst_short) = (0.0f64, f64::INFINITY, 0.0f64);
     let mut done = 0;
     let mut scene = 0usize;
+    let mut edge_without_contact = 0usize;
     while done < n {
         // A fresh small scene: 60 receptor atoms in a 14 Å cube, 5 drug atoms.
         let polar = scene.is_multiple_of(2);
@@ -120,7 +121,17 @@ fn random_queries_never_overlap_tunnel_or_give_nan() {
             if r.t < 1.0 {
                 hits += 1;
                 assert!(g <= TOL + 1e-6, "stopped {g} Å short of contact: {}", ctx());
-                assert!(!r.contacts.is_empty(), "{}", ctx());
+                // The stop is decided in f64, the contact list by the f32 rule:
+                // a stop within f32 rounding of the tolerance's edge may list
+                // no contact (counted and printed; anything else fails).
+                if r.contacts.is_empty() {
+                    assert!(
+                        (g - TOL).abs() < 1e-5,
+                        "stopped with no contact reported (gap {g} Å): {}",
+                        ctx()
+                    );
+                    edge_without_contact += 1;
+                }
                 worst_gap = worst_gap.max(g);
                 min_stop_gap = min_stop_gap.min(g);
             }
@@ -130,7 +141,8 @@ fn random_queries_never_overlap_tunnel_or_give_nan() {
         "{n} random queries ({screws} screws, {hits} stopped at a contact, {scene} scenes): \
          none overlapped, tunnelled or gave NaN; gap at the stop in [{min_stop_gap:.2e}, {worst_gap:.2e}] Å; \
          worst travel short of the exact contact (translations) {worst_short:.2e} Å; \
-         {:.1} certificate evaluations per screw",
+         {:.1} certificate evaluations per screw; {edge_without_contact} stops within 10⁻⁵ Å \
+         of the tolerance's edge listed no contact",
         evals as f64 / screws.max(1) as f64
     );
     assert!(hits > n / 5 && screws > n / 3);

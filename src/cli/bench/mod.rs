@@ -140,12 +140,19 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The kept tail of an existing report (from [`KEEP_MARKER`] on), or nothing.
+/// The kept tail of an existing report (from [`KEEP_MARKER`] on), or nothing
+/// for a new file. An existing file without the marker is an error: it may
+/// hold hand-written text that must not be overwritten.
 fn keep_manual(out: &Path) -> anyhow::Result<String> {
     match std::fs::read_to_string(out) {
-        Ok(text) => Ok(text
-            .find(KEEP_MARKER)
-            .map_or_else(String::new, |k| text[k..].to_string())),
+        Ok(text) if text.trim().is_empty() => Ok(String::new()),
+        Ok(text) => match text.find(KEEP_MARKER) {
+            Some(k) => Ok(text[k..].to_string()),
+            None => anyhow::bail!(
+                "{} exists and has no line `{KEEP_MARKER}`: not overwriting it (add that line above the sections to keep, or choose another --out)",
+                out.display()
+            ),
+        },
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(String::new()),
         Err(e) => Err(e).with_context(|| format!("cannot read {}", out.display())),
     }
