@@ -268,5 +268,19 @@ fn bench_writes_a_report_with_figures_and_keeps_the_manual_sections() {
         assert!(dir.join("bench/scaling.svg").is_file());
     }
     assert!(stderr(&run).contains("[#"), "no progress bar");
+    // A report without the marker may be hand-written: refused, left alone.
+    let other = dir.join("notes.md");
+    std::fs::write(&other, "hand-written\n").expect("write");
+    let refused = bump(&[
+        "bench",
+        "--quick",
+        "--out",
+        other.to_str().expect("utf-8 path"),
+    ]);
+    assert!(!refused.status.success() && stderr(&refused).contains("not overwriting"));
+    assert_eq!(
+        std::fs::read_to_string(&other).expect("read"),
+        "hand-written\n"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -32,7 +32,13 @@ fn query_count() -> usize {
 }
 
 /// A random start outside the receptor (gap ≥ 0.01 Å) and a motion towards it.
-fn random_query(rng: &mut Rng, rule: &ContactRule, r: &Molecule, d: &Molecule) -> (Pose, Pose) {
+/// Also says whether the motion is a pure translation.
+fn random_query(
+    rng: &mut Rng,
+    rule: &ContactRule,
+    r: &Molecule,
+    d: &Molecule,
+) -> (Pose, Pose, bool) {
     loop {
         let dir = rng.unit();
         let start = Pose::new(
@@ -46,12 +52,19 @@ fn random_query(rng: &mut Rng, rule: &ContactRule, r: &Molecule, d: &Molecule) -
         // with some scatter; every other query also turns (up to ±2 rad).
         let len = 10f64.powf(rng.range(-3.0, 2.0));
         let travel = (-dir + rng.unit() * 0.4).normalize() * len;
-        let (axis, angle) = if rng.next_u64() % 2 == 0 {
-            (rng.unit(), rng.range(-2.0, 2.0))
-        } else {
-            (DVec3::X, 0.0)
+        if rng.next_u64().is_multiple_of(2) {
+            return (
+                start,
+                start.moved(travel, rng.unit(), rng.range(-2.0, 2.0)),
+                false,
+            );
+        }
+        // A pure translation (built directly: `moved` renormalises the rotation).
+        let end = Pose {
+            rotation: start.rotation,
+            translation: start.translation + travel,
         };
-        return (start, start.moved(travel, axis, angle));
+        return (start, end, true);
     }
 }
 
@@ -65,9 +78,10 @@ fn random_queries_never_overlap_tunnel_or_give_nan() {
     let (mut worst_gap, mut min_stop_gap, mut worst_short) = (0.0f64, f64::INFINITY, 0.0f64);
     let mut done = 0;
     let mut scene = 0usize;
+    let mut edge_without_contact = 0usize;
     while done < n {
         // A fresh small scene: 60 receptor atoms in a 14 Å cube, 5 drug atoms.
-        let polar = scene % 2 == 0;
+        let polar = scene.is_multiple_of(2);
         let receptor = random_molecule(&mut rng, 60, 14.0, DVec3::ZERO, polar);
         let drug = random_molecule(&mut rng, 5, 4.0, DVec3::ZERO, polar);
         let kind = ColliderKind::ALL[scene % 3];
@@ -76,7 +90,7 @@ fn random_queries_never_overlap_tunnel_or_give_nan() {
         let atoms = DrugAtoms::new(&drug, &rule, col.max_radius());
         for _ in 0..per_scene.min(n - done) {
             done += 1;
-            let (start, end) = random_query(&mut rng, &rule, &receptor, &drug);
+            let (start, end, translation) = random_query(&mut rng, &rule, &receptor, &drug);
             let r = move_to_touch(&col, &atoms, &start, &end, &TouchOptions::default());
             let ctx = || format!("query {done} ({kind:?}): {start:?} -> {end:?}, t = {}", r.t);
             assert!(r.t.is_finite() && (0.0..=1.0).contains(&r.t), "{}", ctx());
@@ -84,12 +98,14 @@ fn random_queries_never_overlap_tunnel_or_give_nan() {
             let g = min_gap(&rule, &receptor, &drug, &r.pose);
             assert!(g > 0.0, "overlap {g} Å: {}", ctx());
             let screw = Screw::between(start, end);
-            if screw.is_translation() {
+            if translation {
                 // Never past the exact first contact, never short of it by
                 // more than the tolerance allows.
                 let d = end.translation - start.translation;
                 match translation_toi(&rule, &receptor, &drug, &start, d) {
-                    None => assert_eq!(r.t, 1.0, "free path not taken: {}", ctx()),
+                    // No contact on the way: the whole step, unless it ends
+                    // within the tolerance of one (checked below).
+                    None => {}
                     Some(te) => {
                         assert!(r.t <= te, "tunnelled past t = {te}: {}", ctx());
                         worst_short = worst_short.max((te - r.t) * d.length());
@@ -105,7 +121,17 @@ fn random_queries_never_overlap_tunnel_or_give_nan() {
             if r.t < 1.0 {
                 hits += 1;
                 assert!(g <= TOL + 1e-6, "stopped {g} Å short of contact: {}", ctx());
-                assert!(!r.contacts.is_empty(), "{}", ctx());
+                // The stop is decided in f64, the contact list by the f32 rule:
+                // a stop within f32 rounding of the tolerance's edge may list
+                // no contact (counted and printed; anything else fails).
+                if r.contacts.is_empty() {
+                    assert!(
+                        (g - TOL).abs() < 1e-5,
+                        "stopped with no contact reported (gap {g} Å): {}",
+                        ctx()
+                    );
+                    edge_without_contact += 1;
+                }
                 worst_gap = worst_gap.max(g);
                 min_stop_gap = min_stop_gap.min(g);
             }
@@ -115,7 +141,8 @@ fn random_queries_never_overlap_tunnel_or_give_nan() {
         "{n} random queries ({screws} screws, {hits} stopped at a contact, {scene} scenes): \
          none overlapped, tunnelled or gave NaN; gap at the stop in [{min_stop_gap:.2e}, {worst_gap:.2e}] Å; \
          worst travel short of the exact contact (translations) {worst_short:.2e} Å; \
-         {:.1} certificate evaluations per screw",
+         {:.1} certificate evaluations per screw; {edge_without_contact} stops within 10⁻⁵ Å \
+         of the tolerance's edge listed no contact",
         evals as f64 / screws.max(1) as f64
     );
     assert!(hits > n / 5 && screws > n / 3);
@@ -172,61 +199,107 @@ fn move_by(translate: DVec3, axis: DVec3, degrees: f64) -> FrameInput {
     }])
 }
 
-/// Positions are compared to this, Å: a few f32 roundings of a 10 Å local
-/// coordinate (the molecules' atoms are stored in f32 relative to their
-/// centre; a far offset can move one rounding by one unit).
+/// Answers far from the origin must match those at the origin to this, Å
+/// (every atom of the moved molecule). A far offset rounds the f64 poses
+/// (10⁻⁹ Å at 10⁷ Å) and can flip the f32 rounding of a local coordinate
+/// (10⁻⁶ Å); a touch or slide turns such differences into differences of
+/// its stop, amplified where a contact is grazing.
 const FAR_TOLERANCE: f64 = 1e-4;
+
+/// One docking query in the built-in scene moved by `offset`: the E placed
+/// at `start` (offset from its file pose, a turn in degrees), then `step`
+/// with collision on under `response`. Returns the E's atoms relative to the
+/// offset, the allowed fraction and the contacts not within FAR_TOLERANCE of
+/// the tolerance's edge — or `None` when the start overlaps.
+fn far_query(
+    offset: DVec3,
+    start: (DVec3, DVec3, f64),
+    step: (DVec3, DVec3, f64),
+    response: bump::collide::Response,
+) -> Option<(Vec<DVec3>, f64, usize)> {
+    let (rings, e) = builtin::scene(RadiiSet::Bondi);
+    let mut s = Session::new(
+        vec![shifted(&rings, offset), shifted(&e, offset)],
+        Settings::default(),
+    )
+    .expect("session");
+    s.step(&commands(&[Command::ToggleMode]), 0.0);
+    s.step(&move_by(start.0, start.1, start.2), 0.0);
+    if e_gap(&s) < 0.01 {
+        return None;
+    }
+    s.step(
+        &commands(&[Command::ToggleCollision, Command::SetResponse(response)]),
+        0.0,
+    );
+    let o = s.step(&move_by(step.0, step.1, step.2), 0.0);
+    assert!(e_gap(&s) > 0.0, "overlap at offset {offset}");
+    let e = &s.bodies()[1];
+    let centre = e.pose.translation - offset;
+    let atoms = e
+        .molecule
+        .local
+        .iter()
+        .map(|l| centre + e.pose.rotation * l.as_dvec3())
+        .collect();
+    let robust = o
+        .contacts
+        .iter()
+        .filter(|c| (f64::from(c.gap()) - TOL).abs() > FAR_TOLERANCE)
+        .count();
+    Some((atoms, o.t, robust))
+}
 
 #[test]
 fn a_scene_far_from_the_origin_gives_the_same_answers() {
-    // A scripted docking session: pushes into the rings, turns, slides.
+    use bump::collide::Response;
+    // Queries around the docked pose: starts within a few Å (and degrees) of
+    // it, steps of up to 4 Å and 20°, under touch and slide.
     let mut rng = Rng(0xfa5);
-    let mut script = Vec::new();
-    script.push(move_by(DVec3::new(0.0, 0.0, 25.0), DVec3::Z, 0.0)); // dock
-    for k in 0..300 {
-        if k == 150 {
-            script.push(commands(&[Command::SetResponse(
-                bump::collide::Response::Slide,
-            )]));
+    let mut queries = Vec::new();
+    while queries.len() < 300 {
+        let start = (
+            DVec3::new(0.0, 0.0, 25.0) + rng.unit() * rng.range(0.0, 3.0),
+            rng.unit(),
+            rng.range(-10.0, 10.0),
+        );
+        let step = (
+            rng.unit() * rng.range(0.0, 4.0),
+            rng.unit(),
+            rng.range(-20.0, 20.0),
+        );
+        let response = if queries.len().is_multiple_of(2) {
+            Response::Touch
+        } else {
+            Response::Slide
+        };
+        if let Some(base) = far_query(DVec3::ZERO, start, step, response) {
+            queries.push((start, step, response, base));
         }
-        let t = rng.unit() * rng.range(0.0, 3.0);
-        let (axis, deg) = (rng.unit(), rng.range(-15.0, 15.0));
-        script.push(move_by(t, axis, deg));
     }
-    let run = |offset: DVec3| -> Vec<(DVec3, DQuat, f64, usize)> {
-        let mut s = builtin_session(offset);
-        let mut out = Vec::new();
-        for f in &script {
-            let o = s.step(f, 0.0);
-            let p = s.bodies()[1].pose;
-            assert!(e_gap(&s) > 0.0, "overlap at offset {offset}");
-            let robust = o
-                .contacts
-                .iter()
-                .filter(|c| f64::from(c.gap()) < TOL - FAR_TOLERANCE)
-                .count();
-            out.push((p.translation - offset, p.rotation, o.t, robust));
-        }
-        out
-    };
-    let base = run(DVec3::ZERO);
-    let touched = base.iter().filter(|f| f.2 < 1.0).count();
-    assert!(touched > 50, "the script should touch often ({touched})");
+    let touched = queries.iter().filter(|q| q.3.1 < 1.0).count();
+    assert!(touched > 100, "the queries should touch often ({touched})");
     for scale in [1e3, 1e5, 1e7] {
         let offset = DVec3::new(1.0, -1.0, 1.0) * scale;
-        let far = run(offset);
-        let (mut dp, mut dq) = (0.0f64, 0.0f64);
-        for (k, (a, b)) in base.iter().zip(&far).enumerate() {
-            dp = dp.max((a.0 - b.0).length());
-            dq = dq.max(angle(a.1, b.1));
-            assert_eq!(a.3, b.3, "offset {scale:e}, frame {k}: contacts differ");
+        let mut dp = 0.0f64;
+        for (k, (start, step, response, base)) in queries.iter().enumerate() {
+            let far = far_query(offset, *start, *step, *response).expect("same start");
+            for (x, y) in base.0.iter().zip(&far.0) {
+                dp = dp.max((*x - *y).length());
+            }
+            assert_eq!(
+                base.2, far.2,
+                "offset {scale:e}, query {k}: contacts differ"
+            );
         }
-        println!("offset {scale:e} Å: worst position difference {dp:.2e} Å, rotation {dq:.2e} rad");
+        println!(
+            "offset {scale:e} Å: {} queries ({touched} touch), worst atom position difference {dp:.2e} Å",
+            queries.len()
+        );
         assert!(
             dp < FAR_TOLERANCE,
-            "offset {scale:e}: positions differ by {dp}"
+            "offset {scale:e}: atoms differ by {dp} Å"
         );
-        assert!(dq < 1e-9, "offset {scale:e}: rotations differ by {dq}");
     }
 }
 
@@ -288,7 +361,7 @@ fn a_million_small_turns_keep_the_drug_rigid() {
     let mut worst = 0.0f64;
     for i in 0..local.len() {
         for j in (i + 1)..local.len() {
-            let d0 = (local[i] - local[j]).as_dvec3().length();
+            let d0 = (local[i].as_dvec3() - local[j].as_dvec3()).length();
             let xi = p.transform_point(local[i].as_dvec3());
             let xj = p.transform_point(local[j].as_dvec3());
             worst = worst.max(((xi - xj).length() - d0).abs() / d0);
@@ -322,9 +395,8 @@ fn push_into_contact(rotate: DVec3, frames: usize) {
         let o = s.step(&push, 0.016);
         let p = s.bodies()[1].pose;
         if first.is_none() && o.t < 1.0 {
-            first = Some(p);
-        }
-        if first.is_some() {
+            first = Some(p); // the frame that reached the contact
+        } else if first.is_some() {
             max_step = max_step.max((p.translation - prev.translation).length());
             if k % 100 == 0 || k < 1000 {
                 let g = e_gap(&s);
@@ -345,7 +417,11 @@ fn push_into_contact(rotate: DVec3, frames: usize) {
     );
     assert!(lo > 0.0, "crept into the rings: gap {lo}");
     assert!(hi <= TOL + 1e-6, "drifted away: gap {hi}");
-    assert!(drift < 1e-6 && turn < 1e-9, "crept {drift} Å, {turn} rad");
+    assert!(drift < 1e-9 && turn < 1e-12, "crept {drift} Å, {turn} rad");
+    assert!(
+        max_step < 1e-9,
+        "jitter: a step of {max_step} Å while blocked"
+    );
 }
 
 #[test]

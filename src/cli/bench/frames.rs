@@ -79,7 +79,7 @@ fn commands(c: &[Command]) -> FrameInput {
 
 /// A small back-and-forth wiggle of the drug (it stays where it is on average).
 fn wiggle(k: usize) -> FrameInput {
-    let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
     nudge(
         DVec3::new(0.01, 0.005, 0.0) * sign,
         DVec3::new(0.0, 0.0, 1e-3) * sign,
@@ -206,6 +206,14 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
             ));
         }
     }
+    md.push_str(
+        "\nFixed after the first measurement: re-selecting the selected molecule (a click on \
+         one of its atoms) threw away its environment and rebuilt the collider every time \
+         (952 µs a frame for DHFR + trimethoprim, 16 µs for the built-in scene); the session \
+         now keeps it when the selection does not change. Idle frames and frames blocked \
+         against a contact ask for no redraw; idle frames and camera moves run no collision \
+         query; with collision off no query runs at all.\n",
+    );
     progress.step("renderer uploads");
     md.push_str(&uploads(&mut headline));
     Section {

@@ -38,10 +38,10 @@ pub struct BenchArgs {
     #[arg(long, default_value = "../shared/pdb")]
     data: PathBuf,
     /// Random approach queries per scene in the run-time-against-error comparison.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 500)]
     queries: usize,
     /// Repetitions of each timed query (the median is kept).
-    #[arg(long, default_value_t = 15)]
+    #[arg(long, default_value_t = 21)]
     reps: usize,
     /// A short run: few queries and repetitions, the two smallest receptors
     /// (for testing the command, not for figures).
@@ -140,12 +140,19 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The kept tail of an existing report (from [`KEEP_MARKER`] on), or nothing.
+/// The kept tail of an existing report (from [`KEEP_MARKER`] on), or nothing
+/// for a new file. An existing file without the marker is an error: it may
+/// hold hand-written text that must not be overwritten.
 fn keep_manual(out: &Path) -> anyhow::Result<String> {
     match std::fs::read_to_string(out) {
-        Ok(text) => Ok(text
-            .find(KEEP_MARKER)
-            .map_or_else(String::new, |k| text[k..].to_string())),
+        Ok(text) if text.trim().is_empty() => Ok(String::new()),
+        Ok(text) => match text.find(KEEP_MARKER) {
+            Some(k) => Ok(text[k..].to_string()),
+            None => anyhow::bail!(
+                "{} exists and has no line `{KEEP_MARKER}`: not overwriting it (add that line above the sections to keep, or choose another --out)",
+                out.display()
+            ),
+        },
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(String::new()),
         Err(e) => Err(e).with_context(|| format!("cannot read {}", out.display())),
     }
@@ -154,7 +161,7 @@ fn keep_manual(out: &Path) -> anyhow::Result<String> {
 fn assemble(ctx: &Context, sections: &[Section], seconds: f64, kept: &str) -> String {
     let mut md = String::from("# Benchmarks and accuracy\n\n");
     md.push_str(&format!(
-        "Written by `bump bench{}` in {seconds:.0} s (regenerate: `cargo run --release --features parry -- bench`). \
+        "Written by `bump bench{}` in {seconds:.0} s (regenerate: `cargo build --release --features parry && XDG_RUNTIME_DIR=$(mktemp -d) taskset -c 1 target/release/bump bench`). \
          Machine: {}. Absolute times belong to this machine (a shared, noisy VM: expect ±20 % between runs); \
          the **ratios between methods measured in the same run** are the result.\n\n",
         if ctx.quick { " --quick" } else { "" },

@@ -151,18 +151,14 @@ fn time_all(
     t
 }
 
-/// One series per collider (from `first` on) of the figure `pick` chooses.
-fn per_collider(
-    data: &[(f64, &Timing)],
-    pick: impl Fn(&Timing) -> [f64; 3],
-    first: usize,
-) -> Vec<Series> {
-    ColliderKind::ALL[first..]
+/// One series per collider of the figure `pick` chooses.
+fn per_collider(data: &[(f64, &Timing)], pick: impl Fn(&Timing) -> [f64; 3]) -> Vec<Series> {
+    ColliderKind::ALL
         .iter()
         .enumerate()
         .map(|(k, kind)| Series {
             name: kind.name().to_string(),
-            points: data.iter().map(|(x, t)| (*x, pick(t)[first + k])).collect(),
+            points: data.iter().map(|(x, t)| (*x, pick(t)[k])).collect(),
         })
         .collect()
 }
@@ -309,7 +305,7 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
     md.push_str("\n![scaling](bench/scaling.svg)\n");
     let by_receptor: Vec<(f64, &Timing)> = rows.iter().map(|(_, n, t)| (*n as f64, t)).collect();
     let by_drug: Vec<(f64, &Timing)> = drows.iter().map(|(n, t)| (*n as f64, t)).collect();
-    let mut touch_r = per_collider(&by_receptor, |t| t.touch, 0);
+    let mut touch_r = per_collider(&by_receptor, |t| t.touch);
     touch_r.push(Series {
         name: "thesis (hashed)".into(),
         points: by_receptor.iter().map(|(x, t)| (*x, t.thesis)).collect(),
@@ -325,23 +321,23 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
         panel(
             "static check vs receptor size",
             "receptor atoms",
-            per_collider(&by_receptor, |t| t.check, 0),
+            per_collider(&by_receptor, |t| t.check),
         ),
         panel("move-to-touch vs receptor size", "receptor atoms", touch_r),
         panel(
             "move-to-touch vs drug size",
             "drug atoms",
-            per_collider(&by_drug, |t| t.touch, 0),
+            per_collider(&by_drug, |t| t.touch),
         ),
         panel(
             "collider build vs atoms",
             "receptor atoms",
-            per_collider(&by_receptor, |t| t.build, 1),
+            per_collider(&by_receptor, |t| t.build),
         ),
     ];
     Section {
         markdown: md,
-        figures: vec![("scaling.svg".into(), super::svg::figure(&panels))],
+        figures: vec![("scaling.svg".into(), super::svg::figure(&panels, 2))],
         headline,
     }
 }

@@ -70,17 +70,26 @@ fn tick(e: i32) -> String {
     }
 }
 
-/// The SVG text of `panels` side by side.
-pub fn figure(panels: &[Panel]) -> String {
-    let width = PANEL_W * panels.len().max(1) as f64;
+/// The SVG text of `panels`, `columns` to a row.
+pub fn figure(panels: &[Panel], columns: usize) -> String {
+    let columns = columns.clamp(1, panels.len().max(1));
+    let rows = panels.len().div_ceil(columns).max(1);
+    let width = PANEL_W * columns as f64;
+    let height = PANEL_H * rows as f64;
     let mut s = String::new();
     let _ = writeln!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{PANEL_H}" viewBox="0 0 {width} {PANEL_H}" font-family="sans-serif" font-size="12">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="12">"#
     );
     let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
     for (k, p) in panels.iter().enumerate() {
-        panel(&mut s, p, k as f64 * PANEL_W);
+        let (x0, y0) = (
+            (k % columns) as f64 * PANEL_W,
+            (k / columns) as f64 * PANEL_H,
+        );
+        let _ = writeln!(s, r#"<g transform="translate({x0},{y0})">"#);
+        panel(&mut s, p, 0.0);
+        s.push_str("</g>\n");
     }
     s.push_str("</svg>\n");
     s
@@ -205,7 +214,7 @@ mod tests {
             ],
             x_floor: 1e-7,
         };
-        let svg = figure(&[p]);
+        let svg = figure(&[p], 2);
         assert!(svg.starts_with("<svg") && svg.ends_with("</svg>\n"));
         assert_eq!(svg.matches("<polyline").count(), 1);
         assert_eq!(svg.matches(r#"r="3.5""#).count(), 3);

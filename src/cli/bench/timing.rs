@@ -78,7 +78,16 @@ pub fn machine() -> String {
                 .map(|r| r.trim_start_matches([' ', '\t', ':']).to_string())
         })
         .unwrap_or_else(|| std::env::consts::ARCH.to_string());
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let online = read("/proc/cpuinfo")
+        .lines()
+        .filter(|l| l.starts_with("processor"))
+        .count();
+    let usable = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cores = if online > usable {
+        format!("{online} (this run pinned to {usable})")
+    } else {
+        usable.to_string()
+    };
     let mem = read("/proc/meminfo")
         .lines()
         .find_map(|l| l.strip_prefix("MemTotal:").map(|r| r.trim().to_string()))
