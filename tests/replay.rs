@@ -697,3 +697,69 @@ fn the_same_stick_moves_along_screen_axes_or_the_molecules_own() {
         "the test needs distinct axes"
     );
 }
+
+#[test]
+fn joystick_values_at_and_beyond_their_limits_never_break_the_session() {
+    let map = JoystickMap::default();
+    let mut c = Controllers::default();
+    let mut s = builtin_session(ColliderKind::Hashed);
+    s.step(
+        &FrameInput {
+            commands: vec![Command::ToggleMode, Command::ToggleCollision],
+            ..FrameInput::default()
+        },
+        DT,
+    );
+    c.apply(&map, pad(1, "Pad"));
+    let mut rng = common::Rng(0xdead_beef);
+    let sources = [
+        "LeftStickX",
+        "LeftStickY",
+        "RightStickX",
+        "RightStickY",
+        "LeftTrigger2",
+        "RightTrigger2",
+        "LeftTrigger",
+        "RightTrigger",
+    ];
+    let specials = [
+        1.0,
+        -1.0,
+        1.0005,
+        -1.0005,
+        0.0,
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        1e300,
+        -2.0,
+        f64::MIN_POSITIVE,
+    ];
+    for frame in 0..5000 {
+        for src in sources {
+            let v = if rng.f64() < 0.3 {
+                specials[(rng.next_u64() % specials.len() as u64) as usize]
+            } else {
+                rng.range(-1.0, 1.0)
+            };
+            c.apply(&map, axis(1, src, v));
+        }
+        let intents = c.intents(&map, false);
+        assert!(intents.velocity.is_finite());
+        // Never faster than full deflection on every axis at once.
+        assert!(intents.velocity.translate.length() <= map.translate_speed * 3f64.sqrt() + 1e-9);
+        let mut input = FrameInput::default();
+        intents.add_to(&mut input);
+        // Extreme frame times too: zero, tiny, long, negative.
+        let dt = [DT, 0.0, 1e-9, 0.5, -1.0][frame % 5];
+        let out = s.step(&input, dt);
+        assert!(
+            out.contacts.iter().all(|k| k.gap() > 0.0),
+            "overlap at frame {frame}"
+        );
+        let p = s.bodies()[1].pose;
+        assert!(p.is_finite(), "non-finite pose at frame {frame}");
+        assert!((p.rotation.length() - 1.0).abs() < 1e-12);
+    }
+    assert!(c.ignored() > 0);
+}
