@@ -614,9 +614,35 @@ impl App {
 
     fn click(&mut self) {
         let Some(g) = &self.gfx else { return };
-        let (w, h) = (f64::from(g.config.width), f64::from(g.config.height));
         let (x, y) = self.mouse.pos;
-        match pick::pick(&self.session, x, y, w, h) {
+        // In side-by-side and top-bottom stereo, pick in the eye's viewport
+        // under the pointer (through the mono camera: the eyes agree at the
+        // convergence plane); composed modes cover the whole frame.
+        let plan = self
+            .hud
+            .view
+            .stereo
+            .plan(g.config.width, g.config.height, self.hud.view.frame);
+        let full = (
+            0.0,
+            0.0,
+            f64::from(g.config.width),
+            f64::from(g.config.height),
+            f64::from(g.config.width) / f64::from(g.config.height.max(1)),
+        );
+        let (vx, vy, vw, vh, aspect) = if plan.compose.is_some() {
+            full
+        } else {
+            plan.eyes
+                .iter()
+                .map(|e| {
+                    let [ex, ey, ew, eh] = e.viewport.map(f64::from);
+                    (ex, ey, ew, eh, e.aspect)
+                })
+                .find(|&(ex, ey, ew, eh, _)| x >= ex && x < ex + ew && y >= ey && y < ey + eh)
+                .unwrap_or(full)
+        };
+        match pick::pick_in(&self.session, x - vx, y - vy, vw, vh, aspect) {
             Some((b, i)) => {
                 let m = &self.session.bodies()[b].molecule;
                 let a = &m.atoms[i];

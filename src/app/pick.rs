@@ -8,14 +8,29 @@ use crate::session::Session;
 /// The nearest atom hit by the ray through pixel (`x`, `y`) of a
 /// `width`×`height` view: (molecule, atom).
 pub fn pick(session: &Session, x: f64, y: f64, width: f64, height: f64) -> Option<(usize, usize)> {
-    if !(width > 0.0 && height > 0.0) {
+    pick_in(session, x, y, width, height, width / height.max(1e-9))
+}
+
+/// As [`pick`], for a `width`×`height` viewport whose projection has
+/// `aspect` (width/height of the view volume; a half-width stereo viewport
+/// shows a full-frame projection squeezed, so its aspect differs from its
+/// pixels').
+pub fn pick_in(
+    session: &Session,
+    x: f64,
+    y: f64,
+    width: f64,
+    height: f64,
+    aspect: f64,
+) -> Option<(usize, usize)> {
+    if !(width > 0.0 && height > 0.0 && aspect > 0.0) {
         return None;
     }
     let cam = session.view_camera();
     let ndc_x = 2.0 * x / width - 1.0;
     let ndc_y = 1.0 - 2.0 * y / height;
     let half = (0.5 * cam.fov_y).tan();
-    let dir_view = DVec3::new(ndc_x * half * width / height, ndc_y * half, -1.0).normalize();
+    let dir_view = DVec3::new(ndc_x * half * aspect, ndc_y * half, -1.0).normalize();
     let dir = cam.to_world(dir_view);
     let eye = cam.eye();
     let mut best: Option<(f64, usize, usize)> = None;
@@ -59,5 +74,23 @@ mod tests {
         let y = (1.0 - v.y / -v.z * f) * 0.5 * h;
         let hit = pick(&s, x, y, w, h).expect("hit");
         assert_eq!(hit.0, 0, "a ring atom, not the E behind");
+    }
+
+    #[test]
+    fn a_squeezed_half_viewport_picks_what_the_full_frame_shows() {
+        let (rings, e) = builtin::scene(RadiiSet::Bondi);
+        let s = Session::new(vec![rings, e], Settings::default()).expect("session");
+        let (w, h) = (800.0, 600.0);
+        // Every pixel of the full frame, squeezed into the left half (as
+        // side-by-side-half shows it), picks the same atom.
+        let mut hits = 0;
+        for (x, y) in [(400.0, 300.0), (380.0, 250.0), (430.0, 330.0), (10.0, 10.0)] {
+            let full = pick(&s, x, y, w, h);
+            hits += usize::from(full.is_some());
+            let half = pick_in(&s, x / 2.0, y, w / 2.0, h, w / h);
+            assert_eq!(full, half, "at {x},{y}");
+        }
+        assert!(hits >= 2, "the test needs atoms under the pointer");
+        assert_eq!(pick_in(&s, 1.0, 1.0, 10.0, 10.0, 0.0), None);
     }
 }
