@@ -110,3 +110,36 @@ fn a_mouse_drag_on_the_camera_pauses_rocking_too() {
     assert!(turned(s.view_camera().rotation, before) < 1e-12);
     assert!(s.rock().is_paused());
 }
+
+#[test]
+fn mouse_drags_and_the_wheel_through_the_frame_input_pause_rocking() {
+    for input in [
+        FrameInput {
+            view_nudge: bump::session::Motion6 {
+                translate: DVec3::ZERO,
+                rotate: DVec3::new(0.0, 0.01, 0.0),
+            },
+            ..FrameInput::default()
+        },
+        FrameInput {
+            zoom: 1.0,
+            ..FrameInput::default()
+        },
+        FrameInput {
+            object_velocity: bump::session::Motion6 {
+                translate: DVec3::X,
+                rotate: DVec3::ZERO,
+            },
+            ..FrameInput::default()
+        },
+    ] {
+        let mut s = session();
+        s.step(&cmds(&[Command::ToggleRocking, Command::RockMore]), 0.0);
+        for _ in 0..120 {
+            s.step(&FrameInput::default(), 1.0 / 60.0);
+        }
+        assert!(!s.rock().is_paused());
+        s.step(&input, 1.0 / 60.0);
+        assert!(s.rock().is_paused(), "{input:?} did not pause rocking");
+    }
+}

@@ -143,14 +143,19 @@ pub struct FrameInput {
 impl FrameInput {
     /// True when the frame asks for nothing at all.
     pub fn is_empty(&self) -> bool {
-        self.velocity.is_zero()
+        !self.has_motion() && self.commands.is_empty()
+    }
+
+    /// True when the frame asks to move something (the view, a molecule, the
+    /// zoom), continuously or once; commands aside.
+    pub fn has_motion(&self) -> bool {
+        !(self.velocity.is_zero()
             && self.nudge.is_zero()
             && self.view_velocity.is_zero()
             && self.view_nudge.is_zero()
             && self.object_velocity.is_zero()
             && self.object_nudge.is_zero()
-            && self.zoom == 0.0
-            && self.commands.is_empty()
+            && self.zoom == 0.0)
     }
 
     /// True while something moves continuously (a key held, a stick deflected).

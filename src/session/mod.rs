@@ -410,9 +410,7 @@ impl Session {
             ..FrameOutcome::default()
         };
         // Rocking pauses while the user moves anything, keeping the view.
-        let user_moves =
-            !(input.velocity.is_zero() && input.nudge.is_zero() && input.object_nudge.is_zero())
-                || input.commands.iter().any(Command::moves_something);
+        let user_moves = input.has_motion() || input.commands.iter().any(Command::moves_something);
         if user_moves && self.rock.is_on() {
             self.pause_rocking();
         }
