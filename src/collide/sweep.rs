@@ -268,10 +268,9 @@ struct Mover<'a> {
 
 impl Mover<'_> {
     /// First time in `[t0, limit)` at which the pair (drug atom at offset `y`
-    /// with speed `s`, at `x0` at `t0` and `end_dist` from the receptor atom at
-    /// the end of the motion; receptor atom at `q`; contact distance `c`) is
-    /// within tolerance of contact and approaching; `None` when it is not
-    /// before `limit`.
+    /// with speed `s`, at `x0` at `t0` and at `x_end` at the end of the
+    /// motion; receptor atom at `q`; contact distance `c`) is within tolerance
+    /// of contact and approaching; `None` when it is not before `limit`.
     #[allow(clippy::too_many_arguments)] // one pair's state; a struct would only rename it
     fn first_touch(
         &self,
@@ -281,7 +280,7 @@ impl Mover<'_> {
         c: f64,
         t0: f64,
         x0: DVec3,
-        end_dist: f64,
+        x_end: impl FnOnce() -> DVec3,
         limit: f64,
     ) -> Option<f64> {
         let sc = self.screw;
@@ -297,7 +296,7 @@ impl Mover<'_> {
         // crept) further in.
         let (target, band) = if dist > c {
             (c + self.half_tol.min(0.5 * (dist - c)), self.half_tol)
-        } else if end_dist >= dist {
+        } else if (x_end() - q).length() >= dist {
             ((dist - OVERLAP_JITTER).max(0.0), 0.0)
         } else {
             (dist, 0.0)
@@ -372,12 +371,10 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
 
     let mut cands: Vec<Candidate> = Vec::with_capacity(256);
     let mut xa: Vec<DVec3> = Vec::with_capacity(ys.len());
+    // End positions are needed only for pairs that overlap at an interval's
+    // start (rare), so they are computed on demand.
     let end_rot = DMat3::from_quat(screw.end().rotation);
-    let xe: Vec<DVec3> = drug
-        .local
-        .iter()
-        .map(|p| end_rot * p.as_dvec3() + screw.end().translation)
-        .collect();
+    let x_end = |i: usize| end_rot * drug.local[i].as_dvec3() + screw.end().translation;
     let mut start_colliding: Vec<Pair> = Vec::new();
     let mut t_hit = 1.0f64;
     let mut ta = 0.0f64;
@@ -444,7 +441,7 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
                     f64::from(k.contact),
                     ta,
                     xa[i],
-                    (xe[i] - q).length(),
+                    || x_end(i),
                     limit,
                 ) && th < t_hit
                 {
@@ -464,6 +461,7 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
     let mut pose = screw.pose_at(t);
     let mut back = tol / s_max;
     let mut tries = 0;
+    // `xs` holds the drug placed at `pose` when the loop leaves with t ≥ last_ta.
     loop {
         let colliding = if t >= last_ta {
             placed_at(drug, &pose, &mut xs);
@@ -480,7 +478,6 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
         pose = screw.pose_at(t);
     }
     if t >= last_ta {
-        placed_at(drug, &pose, &mut xs);
         let contacts = pairs_among(&cands, &xs, tol32);
         finish(t, pose, start_colliding, |_| contacts)
     } else {
