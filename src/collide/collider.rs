@@ -100,6 +100,10 @@ enum Index {
         mask: u32,
         /// Start of each bucket's run in `atoms`; one extra entry at the end.
         start: Vec<u32>,
+        /// The smallest and largest occupied cell on each axis: a query box
+        /// is clipped to them, so a box larger than a small receptor does
+        /// not visit (or hash) empty cells.
+        occupied: [[i32; 3]; 2],
     },
 }
 
@@ -227,12 +231,25 @@ impl Collider {
                     })
                     .collect();
                 let (order, start) = bucket_sort(&keys, size);
+                let mut occupied = [[i32::MAX; 3], [i32::MIN; 3]];
+                for p in &receptor.local {
+                    let c = [
+                        cell_of(p.x, 0.0, inv_cell),
+                        cell_of(p.y, 0.0, inv_cell),
+                        cell_of(p.z, 0.0, inv_cell),
+                    ];
+                    for k in 0..3 {
+                        occupied[0][k] = occupied[0][k].min(c[k]);
+                        occupied[1][k] = occupied[1][k].max(c[k]);
+                    }
+                }
                 (
                     order,
                     Index::Hashed {
                         inv_cell,
                         mask,
                         start,
+                        occupied,
                     },
                 )
             }
@@ -354,13 +371,14 @@ impl Collider {
                 inv_cell,
                 mask,
                 start,
+                occupied: [olo, ohi],
             } => {
-                let x0 = cell_of(lo.x, 0.0, *inv_cell);
-                let y0 = cell_of(lo.y, 0.0, *inv_cell);
-                let z0 = cell_of(lo.z, 0.0, *inv_cell);
-                let x1 = cell_of(hi.x, 0.0, *inv_cell);
-                let y1 = cell_of(hi.y, 0.0, *inv_cell);
-                let z1 = cell_of(hi.z, 0.0, *inv_cell);
+                let x0 = cell_of(lo.x, 0.0, *inv_cell).max(olo[0]);
+                let y0 = cell_of(lo.y, 0.0, *inv_cell).max(olo[1]);
+                let z0 = cell_of(lo.z, 0.0, *inv_cell).max(olo[2]);
+                let x1 = cell_of(hi.x, 0.0, *inv_cell).min(ohi[0]);
+                let y1 = cell_of(hi.y, 0.0, *inv_cell).min(ohi[1]);
+                let z1 = cell_of(hi.z, 0.0, *inv_cell).min(ohi[2]);
                 if x0 > x1 || y0 > y1 || z0 > z1 {
                     return;
                 }
