@@ -149,6 +149,9 @@ pub fn run(
         app.joysticks = Some(sticks);
     }
     app.recorder = options.record;
+    if app.recorder.is_some() {
+        app.hud.replay = Some("REC".into());
+    }
     app.player = options.play.map(|log| Player {
         log,
         next: 0,
