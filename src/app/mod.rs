@@ -716,6 +716,9 @@ impl App {
         // A replay ignores live input and steps only when a recorded frame is due.
         let mut step = true;
         if let Some(p) = &mut self.player {
+            if input.commands.contains(&Command::Quit) {
+                return true; // the user stops the replay
+            }
             let started = *p.started.get_or_insert(now);
             let due = p
                 .log
