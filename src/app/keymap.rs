@@ -121,6 +121,8 @@ pub fn action(key: KeyCode, mods: Mods) -> Option<KeyAction> {
         KeyCode::KeyK => S(Command::ToggleRocking),
         KeyCode::Comma => S(Command::RockLess),
         KeyCode::Period => S(Command::RockMore),
+        // The thesis's `S` (a capital: Shift+S); plain S turns about x.
+        KeyCode::KeyS if mods.shift => Shell(ShellAction::Cue(CueAction::CycleStereo)),
         KeyCode::Digit3 => Shell(ShellAction::Cue(CueAction::CycleStereo)),
         KeyCode::BracketLeft => Shell(ShellAction::Cue(CueAction::EyesCloser)),
         KeyCode::BracketRight => Shell(ShellAction::Cue(CueAction::EyesApart)),
@@ -149,7 +151,7 @@ pub fn motion_of(key: KeyCode, mods: Mods) -> Option<Motion6> {
         translate: DVec3::ZERO,
         rotate: v,
     };
-    if mods.ctrl {
+    if mods.ctrl || (mods.shift && key == KeyCode::KeyS) {
         return None;
     }
     Some(match key {
@@ -216,7 +218,7 @@ pub const HELP: &[(&str, &str)] = &[
     ("Click", "select the molecule of an atom and show the atom"),
     ("K; , .", "rocking on/off; narrower / wider swing"),
     (
-        "3",
+        "3 or Shift+S",
         "next stereo mode: side by side, top-bottom, rows, columns, anaglyph, frame-sequential, mono",
     ),
     (
@@ -258,6 +260,23 @@ mod tests {
             action(KeyCode::KeyL, none),
             Some(KeyAction::Shell(ShellAction::ToggleLight))
         );
+    }
+
+    #[test]
+    fn shift_s_is_the_thesis_stereo_key_and_does_not_turn() {
+        let shift = Mods {
+            shift: true,
+            ..Mods::default()
+        };
+        assert!(matches!(
+            action(KeyCode::KeyS, shift),
+            Some(KeyAction::Shell(ShellAction::Cue(CueAction::CycleStereo)))
+        ));
+        assert!(motion_of(KeyCode::KeyS, shift).is_none());
+        assert!(velocity(&[KeyCode::KeyS], shift).is_zero());
+        // Plain S still turns about x.
+        assert!(motion_of(KeyCode::KeyS, Mods::default()).is_some());
+        assert!(action(KeyCode::KeyS, Mods::default()).is_none());
     }
 
     #[test]
