@@ -48,5 +48,6 @@ pub mod input;
 pub mod model;
 pub mod motion;
 pub mod render;
+pub mod rng;
 pub mod scene;
 pub mod session;

@@ -5,24 +5,14 @@
 
 mod common;
 
+use common::gpu;
+
 use bump::model::{LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
 use bump::render::offscreen::{Image, Offscreen, render_image};
 use bump::render::view::{model_views, projection};
-use bump::render::{Cues, Gpu, ViewParams};
+use bump::render::{Cues, ViewParams};
 use bump::session::{Command, FrameInput, Motion6, Session, Settings};
 use glam::DVec3;
-
-/// The GPU, or `None` (skip) outside CI; under `CI=true` it must exist.
-fn gpu() -> Option<Gpu> {
-    match Gpu::headless() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var("CI").as_deref() == Ok("true") => panic!("CI must render: {e}"),
-        Err(e) => {
-            eprintln!("SKIP: no graphics adapter ({e})");
-            None
-        }
-    }
-}
 
 fn one_atom(element: &str, radius: f32, at: DVec3) -> Molecule {
     Molecule::new("atom", vec![common::atom(1, element, radius)], &[at])

@@ -605,31 +605,12 @@ fn fly_in(molecules: &[Molecule], settings: Settings, way_out: &[Pose]) -> Optio
         }
     };
     for turn in [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z] {
-        for _ in 0..20 {
-            let velocity = Motion6 {
-                translate: DVec3::ZERO,
-                rotate: turn * 30f64.to_radians(),
-            };
-            step(
-                &mut s,
-                FrameInput {
-                    velocity,
-                    ..FrameInput::default()
-                },
-                &mut frames,
-            );
-        }
-        for _ in 0..40 {
-            let velocity = home(&s);
-            step(
-                &mut s,
-                FrameInput {
-                    velocity,
-                    ..FrameInput::default()
-                },
-                &mut frames,
-            );
-        }
+        let twist = Motion6 {
+            translate: DVec3::ZERO,
+            rotate: turn * 30f64.to_radians(),
+        };
+        hold(&mut s, &mut frames, 20, |_| twist);
+        hold(&mut s, &mut frames, 40, home);
     }
     let deeper = (crystal.translation - way_out[1].translation).normalize_or_zero();
     let cam = s.camera().rotation;
@@ -762,4 +743,16 @@ fn joystick_values_at_and_beyond_their_limits_never_break_the_session() {
         assert!((p.rotation.length() - 1.0).abs() < 1e-12);
     }
     assert!(c.ignored() > 0);
+}
+
+/// Steps `n` frames of 1/60 s at the velocity `v` asks for in each, recording them.
+fn hold(s: &mut Session, frames: &mut Vec<LogFrame>, n: usize, v: impl Fn(&Session) -> Motion6) {
+    for _ in 0..n {
+        let input = FrameInput {
+            velocity: v(s),
+            ..FrameInput::default()
+        };
+        s.step(&input, DT);
+        frames.push(LogFrame { dt: DT, input });
+    }
 }

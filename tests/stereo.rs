@@ -13,6 +13,8 @@
 
 mod common;
 
+use common::gpu;
+
 use bump::model::Molecule;
 use bump::render::offscreen::{Image, Offscreen};
 use bump::render::{Cues, Gpu, Stereo, StereoMode, ViewParams};
@@ -22,17 +24,6 @@ use glam::DVec3;
 const W: u32 = 400;
 const H: u32 = 200;
 const DIST: f64 = 40.0;
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::headless() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var("CI").as_deref() == Ok("true") => panic!("CI must render: {e}"),
-        Err(e) => {
-            eprintln!("SKIP: no graphics adapter ({e})");
-            None
-        }
-    }
-}
 
 fn session() -> Session {
     let m = Molecule::new("atom", vec![common::atom(1, "C", 1.0)], &[DVec3::ZERO]);

@@ -11,7 +11,7 @@ use std::process::{Command, Stdio};
 use std::thread::sleep;
 use std::time::Duration;
 
-use common::x11::{screen, taps, wait_exit, xdotool};
+use common::x11::{finish, screen, taps, xdotool};
 
 #[test]
 fn a_window_recording_replays_bit_for_bit_headless_and_in_a_window() {
@@ -48,14 +48,7 @@ fn a_window_recording_replays_bit_for_bit_headless_and_in_a_window() {
     taps(&d, "Escape", 1); // leave the text field
     sleep(Duration::from_millis(200));
     taps(&d, "q", 1);
-    let status = wait_exit(&mut app, 30).expect("q did not quit");
-    let text = std::fs::read_to_string(&log).unwrap_or_default();
-    assert!(status.success(), "recording run failed: {status}\n{text}");
-    let mut out = String::new();
-    if let Some(mut so) = app.0.stdout.take() {
-        use std::io::Read;
-        let _ = so.read_to_string(&mut out);
-    }
+    let (out, text) = finish(&mut app, &log, 30, "the recording run (q)");
     assert!(
         out.contains("timing report"),
         "no report on exit\n{out}\n{text}"
@@ -88,14 +81,7 @@ fn a_window_recording_replays_bit_for_bit_headless_and_in_a_window() {
     // Replay in a window: runs by itself and exits at the end.
     let log2 = x.runtime.join("play.log");
     let mut player = x.launch(&["--play", &rec_s], &log2, Stdio::piped());
-    let status = wait_exit(&mut player, 90).expect("the window replay did not end by itself");
-    let text = std::fs::read_to_string(&log2).unwrap_or_default();
-    assert!(status.success(), "window replay failed: {status}\n{text}");
-    let mut out = String::new();
-    if let Some(mut so) = player.0.stdout.take() {
-        use std::io::Read;
-        let _ = so.read_to_string(&mut out);
-    }
+    let (out, text) = finish(&mut player, &log2, 90, "the window replay (ends by itself)");
     assert!(
         out.contains("final poses match the recording bit for bit"),
         "{out}\n{text}"

@@ -30,7 +30,7 @@ use crate::input::JoystickMap;
 use crate::model::{self, LoadOptions};
 use crate::render::colors::BACKGROUND;
 use crate::render::offscreen::{render_image, save_png};
-use crate::render::spheres::depth_view;
+use crate::render::spheres::{color_pass, depth_view};
 use crate::render::{Gpu, RenderError, SphereRenderer, ViewParams};
 use crate::session::{Command, FrameInput, LogWriter, Motion6, Session, SessionLog, Timing};
 
@@ -435,13 +435,7 @@ impl App {
                 .map(|d| d.as_secs())
                 .unwrap_or(0)
         );
-        let params = ViewParams {
-            light: self.light,
-            cues: self.hud.view.cues,
-            stereo: self.hud.view.stereo,
-            frame: self.hud.view.frame,
-            ..ViewParams::default()
-        };
+        let params = self.hud.view.params(self.light);
         let result = render_image(
             &g.gpu,
             &self.session,
@@ -775,13 +769,7 @@ impl App {
         let flashing = self.flash_until.is_some_and(|t| now < t);
         g.spheres
             .apply_highlights(&g.gpu.queue, &out.highlight_changes);
-        let params = ViewParams {
-            light: self.light,
-            cues: self.hud.view.cues,
-            stereo: self.hud.view.stereo,
-            frame: self.hud.view.frame,
-            ..ViewParams::default()
-        };
+        let params = self.hud.view.params(self.light);
         let frame = match g.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
             | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
@@ -840,22 +828,7 @@ impl App {
             &screen,
         );
         {
-            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hud"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let pass = color_pass(&mut encoder, "hud", &view, wgpu::LoadOp::Load);
             g.egui_renderer
                 .render(&mut pass.forget_lifetime(), &jobs, &screen);
         }

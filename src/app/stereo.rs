@@ -62,6 +62,17 @@ fn on_off(b: bool) -> &'static str {
 }
 
 impl ViewState {
+    /// How the scene is drawn now, lit from `light`.
+    pub fn params(&self, light: glam::DVec3) -> crate::render::ViewParams {
+        crate::render::ViewParams {
+            light,
+            cues: self.cues,
+            stereo: self.stereo,
+            frame: self.frame,
+            ..crate::render::ViewParams::default()
+        }
+    }
+
     /// Why frame-sequential stereo cannot run here, if it cannot.
     pub fn sequential_refused(&self) -> Option<String> {
         match self.refresh_millihertz {

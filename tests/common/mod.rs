@@ -6,7 +6,7 @@ pub mod x11;
 
 use std::path::PathBuf;
 
-use bump::collide::{Collider, ContactRule, DrugAtoms, oracle};
+use bump::collide::{Collider, ContactRule, DrugAtoms};
 use bump::model::{AtomInfo, Molecule};
 use bump::motion::{Pose, Screw};
 use glam::DVec3;
@@ -28,38 +28,9 @@ pub fn shared_pdb() -> Option<PathBuf> {
     None
 }
 
-/// A tiny deterministic generator (xorshift64*), so tests need no seed crate.
-pub struct Rng(pub u64);
+pub use bump::rng::Rng;
 
-impl Rng {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    /// Uniform in [0, 1).
-    pub fn f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.f64()
-    }
-    pub fn unit(&mut self) -> DVec3 {
-        loop {
-            let v = DVec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            let l = v.length();
-            if l > 0.1 && l <= 1.0 {
-                return v / l;
-            }
-        }
-    }
-}
-
+/// A test atom: element `element`, radius `radius`, N and O polar.
 pub fn atom(serial: i64, element: &str, radius: f32) -> AtomInfo {
     AtomInfo {
         serial,
@@ -104,37 +75,16 @@ pub fn contact(rule: &ContactRule, a: &AtomInfo, b: &AtomInfo) -> f64 {
     f64::from(rule.contact_distance(a.radius, a.polar, b.radius, b.polar))
 }
 
-/// Exact time of impact for a pure translation `d` of the drug from relative
-/// pose `start` ([`bump::collide::oracle::translation_toi`]).
-pub fn exact_translation_toi(
-    rule: &ContactRule,
-    receptor: &Molecule,
-    drug: &Molecule,
-    start: &Pose,
-    d: DVec3,
-) -> Option<f64> {
-    oracle::translation_toi(rule, receptor, drug, start, d)
-}
+/// The f64 oracles live in the library ([`bump::collide::oracle`]): exact
+/// time of impact for a pure translation, smallest gap, dense screw search.
+#[allow(unused_imports)] // each test crate uses only some of them
+pub use bump::collide::oracle::{
+    dense_screw_toi, min_gap as min_gap_f64, translation_toi as exact_translation_toi,
+};
 
 /// True when any pair collides (f64) at `pose`.
 pub fn collides_f64(rule: &ContactRule, receptor: &Molecule, drug: &Molecule, pose: &Pose) -> bool {
     min_gap_f64(rule, receptor, drug, pose) <= 0.0
-}
-
-/// Smallest `d − c` over all pairs (f64).
-pub fn min_gap_f64(rule: &ContactRule, receptor: &Molecule, drug: &Molecule, pose: &Pose) -> f64 {
-    oracle::min_gap(rule, receptor, drug, pose)
-}
-
-/// First contact time along the screw by dense f64 sampling then bisection.
-pub fn dense_screw_toi(
-    rule: &ContactRule,
-    receptor: &Molecule,
-    drug: &Molecule,
-    screw: &Screw,
-    samples: usize,
-) -> Option<f64> {
-    oracle::dense_screw_toi(rule, receptor, drug, screw, samples)
 }
 
 /// Largest atom speed of a screw (Å per unit t) for the drug at its start.
@@ -151,4 +101,17 @@ pub fn all_colliders(receptor: &Molecule, rule: &ContactRule) -> Vec<Collider> {
         .iter()
         .map(|k| Collider::build(receptor, rule, *k))
         .collect()
+}
+
+/// The GPU (lavapipe without one), or `None` (skip) outside CI; under
+/// `CI=true` it must exist.
+pub fn gpu() -> Option<bump::render::Gpu> {
+    match bump::render::Gpu::headless() {
+        Ok(g) => Some(g),
+        Err(e) if std::env::var("CI").as_deref() == Ok("true") => panic!("CI must render: {e}"),
+        Err(e) => {
+            eprintln!("SKIP: no graphics adapter ({e})");
+            None
+        }
+    }
 }

@@ -144,3 +144,17 @@ pub fn wait_exit(child: &mut Kill, secs: u64) -> Option<std::process::ExitStatus
         sleep(Duration::from_millis(100));
     }
 }
+
+/// Waits up to `secs` for `child` (started with piped stdout) to exit
+/// successfully; its stdout, and its stderr log for messages.
+pub fn finish(child: &mut Kill, log: &std::path::Path, secs: u64, what: &str) -> (String, String) {
+    let status = wait_exit(child, secs).unwrap_or_else(|| panic!("{what}: did not exit"));
+    let text = std::fs::read_to_string(log).unwrap_or_default();
+    assert!(status.success(), "{what} failed: {status}\n{text}");
+    let mut out = String::new();
+    if let Some(mut so) = child.0.stdout.take() {
+        use std::io::Read;
+        let _ = so.read_to_string(&mut out);
+    }
+    (out, text)
+}

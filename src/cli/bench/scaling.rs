@@ -99,6 +99,24 @@ struct Timing {
     touched: bool,
 }
 
+impl Timing {
+    /// The table cells shared by the receptor- and drug-size tables: checks
+    /// and touches per collider, the thesis method, and whether it touched.
+    fn cells(&self) -> String {
+        format!(
+            "{} | {} | {} | {} | {} | {} | {} | {}",
+            us(self.check[0]),
+            us(self.check[1]),
+            us(self.check[2]),
+            us(self.touch[0]),
+            us(self.touch[1]),
+            us(self.touch[2]),
+            us(self.thesis),
+            if self.touched { "yes" } else { "no" }
+        )
+    }
+}
+
 fn time_all(
     ctx: &Context,
     rule: &ContactRule,
@@ -205,17 +223,7 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
          | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |\n",
     );
     for (f, n, t) in &rows {
-        md.push_str(&format!(
-            "| {f} | {n} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-            us(t.check[0]),
-            us(t.check[1]),
-            us(t.check[2]),
-            us(t.touch[0]),
-            us(t.touch[1]),
-            us(t.touch[2]),
-            us(t.thesis),
-            if t.touched { "yes" } else { "no" }
-        ));
+        md.push_str(&format!("| {f} | {n} | {} |\n", t.cells()));
     }
     if let (Some(a), Some(b)) = (rows.first(), rows.last())
         && rows.len() > 1
@@ -275,17 +283,7 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
                 r.len()
             ));
             for (n, t) in &drows {
-                md.push_str(&format!(
-                    "| {n} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-                    us(t.check[0]),
-                    us(t.check[1]),
-                    us(t.check[2]),
-                    us(t.touch[0]),
-                    us(t.touch[1]),
-                    us(t.touch[2]),
-                    us(t.thesis),
-                    if t.touched { "yes" } else { "no" }
-                ));
+                md.push_str(&format!("| {n} | {} |\n", t.cells()));
             }
             if let (Some(a), Some(b)) = (drows.first(), drows.last()) {
                 headline.push(format!(

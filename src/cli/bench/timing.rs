@@ -36,37 +36,8 @@ pub fn median_us<R>(reps: usize, inner: usize, mut f: impl FnMut() -> R) -> f64 
     median(&times)
 }
 
-/// A small deterministic generator (xorshift64*), so runs are repeatable.
-pub struct Rng(pub u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    /// Uniform in `[lo, hi)`.
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
-    }
-
-    /// A uniformly random unit vector.
-    pub fn unit(&mut self) -> glam::DVec3 {
-        loop {
-            let v = glam::DVec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            let l = v.length();
-            if l > 0.1 && l <= 1.0 {
-                return v / l;
-            }
-        }
-    }
-}
+/// The seeded generator, so runs are repeatable.
+pub use bump::rng::Rng;
 
 /// One line describing the machine, OS, compiler and build.
 pub fn machine() -> String {
