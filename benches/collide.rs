@@ -4,7 +4,9 @@
 //!   (1268 heavy atoms) from `6xg5_tmp_prepared.pdb`: the static check at the
 //!   crystal pose, and move-to-touch of a 1 Å step (16 directions out of the
 //!   pocket, cycled) at 1e-3 Å tolerance, for each collider, the thesis method
-//!   and parry3d (`intersection_test`, `cast_shapes`).
+//!   and parry3d (`intersection_test`, `cast_shapes`); and the same steps
+//!   with a 10° turn about the drug's centre (a screw motion) for the grid
+//!   colliders and parry3d's `cast_shapes_nonlinear`.
 //! - `scaling/*`: a 30-atom drug (the receptor's outermost atom and the next
 //!   29, pushed out until free) against receptors from 1.3k to 272k atoms:
 //!   the static check at the end pose and a 1.5 Å move-to-touch back towards
@@ -25,11 +27,11 @@ use bump::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, check, move_to_touch,
 };
 use bump::model::{self, LigandSpec, LoadOptions, Molecule};
-use bump::motion::Pose;
+use bump::motion::{Pose, Screw};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::{DVec3, Vec3};
 use parry3d::math::{Pose as PPose, Vector};
-use parry3d::query::{self, ShapeCastOptions};
+use parry3d::query::{self, NonlinearRigidMotion, ShapeCastOptions};
 use parry3d::shape::{Compound, SharedShape};
 
 fn data_dir() -> Option<PathBuf> {
@@ -255,6 +257,57 @@ fn dhfr(c: &mut Criterion) {
                 v,
                 &dr,
                 ShapeCastOptions::with_max_time_of_impact(1.0),
+            ))
+        })
+    });
+    // The same steps with a 10° turn about the drug's centre: a screw
+    // motion, which parry3d casts with `cast_shapes_nonlinear`.
+    let screws: Vec<(Pose, Pose)> = queries
+        .iter()
+        .map(|(s, e)| {
+            let d = e.translation - s.translation;
+            let axis = d.cross(DVec3::Z).try_normalize().unwrap_or(DVec3::X);
+            (*s, s.moved(d, axis, 10f64.to_radians()))
+        })
+        .collect();
+    for kind in [ColliderKind::Grid, ColliderKind::Hashed] {
+        let col = Collider::build(&receptor, &rule, kind);
+        let atoms = DrugAtoms::new(&drug, &rule, col.max_radius());
+        let opts = TouchOptions::default();
+        let mut k = 0;
+        g.bench_function(
+            BenchmarkId::new("touch_1A_10deg", format!("swept-{}", kind.name())),
+            |b| {
+                b.iter(|| {
+                    let (s, e) = &screws[k % screws.len()];
+                    k += 1;
+                    black_box(move_to_touch(&col, &atoms, s, e, &opts))
+                })
+            },
+        );
+    }
+    let motions: Vec<NonlinearRigidMotion> = screws
+        .iter()
+        .filter_map(|(s, e)| {
+            let screw = Screw::between(*s, *e);
+            let a = screw.axis_point()?;
+            Some(NonlinearRigidMotion::new(
+                ppose(s),
+                s.inverse().transform_point(a).as_vec3(),
+                screw.slide().as_vec3(),
+                (screw.axis() * screw.angle()).as_vec3(),
+            ))
+        })
+        .collect();
+    let still = NonlinearRigidMotion::constant_position(PPose::IDENTITY);
+    let mut k = 0;
+    g.sample_size(10);
+    g.bench_function(BenchmarkId::new("touch_1A_10deg", "parry3d"), |b| {
+        b.iter(|| {
+            let m = &motions[k % motions.len()];
+            k += 1;
+            black_box(query::cast_shapes_nonlinear(
+                &still, &rec, m, &dr, 0.0, 1.0, true,
             ))
         })
     });

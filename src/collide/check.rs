@@ -7,7 +7,6 @@
 //! Results are sorted by receptor atom, then drug atom, so every collider gives
 //! the same list.
 
-use glam::Vec3;
 use serde::Serialize;
 
 use super::collider::{Collider, unpack_meta};
@@ -59,12 +58,9 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
 ) {
     for (i, x) in drug.placed(rel).enumerate() {
         let far = drug.reach[i] + extra.max(0.0);
-        let far2 = far * far;
-        let r = Vec3::splat(far);
         let mut go_on = true;
-        collider.visit(x - r, x + r, |a, meta| {
-            let d2 = (a.truncate() - x).length_squared();
-            if !go_on || d2 > far2 {
+        collider.near(x, far, |a, meta, d2| {
+            if !go_on {
                 return;
             }
             let (j, polar) = unpack_meta(meta);

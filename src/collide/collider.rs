@@ -9,7 +9,8 @@
 //! - [`ColliderKind::Brute`] visits every atom: the reference.
 //! - [`ColliderKind::Grid`] is a full 3-D grid over the bounding box (the
 //!   thesis's first variant). Atoms are stored sorted by cell, x fastest, so a
-//!   row of cells is one contiguous run.
+//!   row of cells is one contiguous run; its cells are short in x and long in
+//!   y and z ([`GRID_EDGE`]), so a query covers few rows.
 //! - [`ColliderKind::Hashed`] hashes cell coordinates into a table whose size is
 //!   chosen from the atom count (the thesis's variant: one pass, no bounds).
 //!   Distinct cells can share a bucket, so each stored atom keeps its cell
@@ -17,10 +18,13 @@
 //!   asked for: no atom twice, no far atom.
 //!
 //! The cell edge is the largest contact distance a receptor atom can have with
-//! a drug atom as large as itself, so a static query touches at most 27 cells.
+//! a drug atom as large as itself, so a static query touches at most 27 cells
+//! of the hashed grid. Queries ([`Collider::near`]) test the atoms of a run a
+//! few at a time with SIMD lanes (the `wide` crate, SSE2 on any x86-64).
 
 use glam::{Vec3, Vec4};
 use serde::Serialize;
+use wide::{f32x4, i32x4};
 
 use super::rule::ContactRule;
 use crate::model::Molecule;
@@ -65,19 +69,29 @@ impl ColliderKind {
 /// Largest number of cells a full grid may have before its cell grows.
 const MAX_GRID_CELLS: usize = 1 << 24;
 
+/// Atoms tested together by [`Collider::near`]: a run of stored atoms is
+/// tested in chunks of this many SIMD lanes (f32x4: SSE2, so any x86-64), the
+/// lanes past its end masked off. The coordinate arrays carry this many
+/// padding entries so a chunk never reads out of bounds.
+const LANES: usize = 4;
+
 /// A receptor indexed for collision queries.
 #[derive(Debug, Clone)]
 pub struct Collider {
     kind: ColliderKind,
     /// x, y, z (receptor-local) and radius, in storage order.
     atoms: Vec<Vec4>,
+    /// The same coordinates as separate arrays, each padded with [`LANES`]
+    /// entries, for the chunked distance tests of [`Collider::near`].
+    soa: [Vec<f32>; 3],
     /// Receptor atom index << 1 | polar bit, in storage order.
     meta: Vec<u32>,
     /// Storage slot of each receptor atom, by receptor index.
     slot: Vec<u32>,
-    /// Integer cell of each stored atom (hashed index only; empty otherwise),
-    /// so a bucket scan keeps just the atoms of the cell asked for.
-    cells: Vec<[i32; 3]>,
+    /// Integer cell of each stored atom, one array per axis padded with
+    /// [`LANES`] entries (hashed index only; empty otherwise), so a bucket
+    /// scan keeps just the atoms of the cell asked for.
+    cells: [Vec<i32>; 3],
     index: Index,
     cell: f32,
     max_radius: f32,
@@ -90,7 +104,8 @@ enum Index {
     Brute,
     Grid {
         origin: Vec3,
-        inv_cell: f32,
+        /// Reciprocal cell edges: see [`GRID_EDGE`].
+        inv_cell: Vec3,
         dims: [i32; 3],
         /// Start of each cell's run in `atoms`; one extra entry at the end.
         start: Vec<u32>,
@@ -106,6 +121,15 @@ enum Index {
         occupied: [[i32; 3]; 2],
     },
 }
+
+/// Edges of a full-grid cell, in units of the contact-distance edge: short in
+/// x, long in y and z. A query scans one contiguous run of atoms for each
+/// (y, z) row of cells it covers, so long y and z edges mean few rows (about
+/// four for the ball of a moving drug atom) and a short x edge trims each run
+/// to little more than the ball's width. On trimethoprim/DHFR move-to-touch
+/// this shape took 1.44 µs a query against 1.85 µs for cubes of one contact
+/// distance; 1.25×, 1.75× and 2× for y and z, and 1× for x, were slower.
+const GRID_EDGE: Vec3 = Vec3::new(0.5, 1.5, 1.5);
 
 /// Integer cell coordinate of `x` (saturating for absurd values, 0 for NaN).
 #[inline]
@@ -164,7 +188,7 @@ impl Collider {
             lo = Vec3::ZERO;
             hi = Vec3::ZERO;
         }
-        let mut cell = (2.0 * max_radius - rule.min_allowance()).max(1.0);
+        let cell = (2.0 * max_radius - rule.min_allowance()).max(1.0);
         let raw: Vec<(Vec4, u32)> = receptor
             .local
             .iter()
@@ -177,28 +201,29 @@ impl Collider {
             ColliderKind::Brute => ((0..n as u32).collect(), Index::Brute),
             ColliderKind::Grid => {
                 let extent = hi - lo;
+                let mut edge = GRID_EDGE * cell;
                 let mut dims;
                 loop {
                     dims = [
-                        (extent.x / cell).floor() as i32 + 1,
-                        (extent.y / cell).floor() as i32 + 1,
-                        (extent.z / cell).floor() as i32 + 1,
+                        (extent.x / edge.x).floor() as i32 + 1,
+                        (extent.y / edge.y).floor() as i32 + 1,
+                        (extent.z / edge.z).floor() as i32 + 1,
                     ];
                     let total = dims.iter().map(|&d| d.max(1) as usize).product::<usize>();
                     if total <= MAX_GRID_CELLS {
                         break;
                     }
                     // A sparse, huge receptor: coarser cells keep memory bounded.
-                    cell *= 2.0;
+                    edge *= 2.0;
                 }
-                let inv_cell = 1.0 / cell;
+                let inv_cell = edge.recip();
                 let keys: Vec<u32> = receptor
                     .local
                     .iter()
                     .map(|p| {
-                        let ix = cell_of(p.x, lo.x, inv_cell).clamp(0, dims[0] - 1);
-                        let iy = cell_of(p.y, lo.y, inv_cell).clamp(0, dims[1] - 1);
-                        let iz = cell_of(p.z, lo.z, inv_cell).clamp(0, dims[2] - 1);
+                        let ix = cell_of(p.x, lo.x, inv_cell.x).clamp(0, dims[0] - 1);
+                        let iy = cell_of(p.y, lo.y, inv_cell.y).clamp(0, dims[1] - 1);
+                        let iz = cell_of(p.z, lo.z, inv_cell.z).clamp(0, dims[2] - 1);
                         ((iz * dims[1] + iy) * dims[0] + ix) as u32
                     })
                     .collect();
@@ -254,29 +279,27 @@ impl Collider {
                 )
             }
         };
-        let atoms = order.iter().map(|&i| raw[i as usize].0).collect();
+        let atoms: Vec<Vec4> = order.iter().map(|&i| raw[i as usize].0).collect();
+        let soa = [0, 1, 2].map(|k| padded(atoms.iter().map(|a| a[k])));
         let meta = order.iter().map(|&i| raw[i as usize].1).collect();
         let mut slot = vec![0u32; n];
         for (k, &i) in order.iter().enumerate() {
             slot[i as usize] = k as u32;
         }
         let cells = match &index {
-            Index::Hashed { inv_cell, .. } => order
-                .iter()
-                .map(|&i| {
-                    let p = receptor.local[i as usize];
-                    [
-                        cell_of(p.x, 0.0, *inv_cell),
-                        cell_of(p.y, 0.0, *inv_cell),
-                        cell_of(p.z, 0.0, *inv_cell),
-                    ]
-                })
-                .collect(),
-            _ => Vec::new(),
+            Index::Hashed { inv_cell, .. } => [0, 1, 2].map(|k| {
+                padded(
+                    order
+                        .iter()
+                        .map(|&i| cell_of(receptor.local[i as usize][k], 0.0, *inv_cell)),
+                )
+            }),
+            _ => [Vec::new(), Vec::new(), Vec::new()],
         };
         Self {
             kind,
             atoms,
+            soa,
             meta,
             slot,
             cells,
@@ -347,12 +370,12 @@ impl Collider {
                 dims,
                 start,
             } => {
-                let x0 = cell_of(lo.x, origin.x, *inv_cell).max(0);
-                let y0 = cell_of(lo.y, origin.y, *inv_cell).max(0);
-                let z0 = cell_of(lo.z, origin.z, *inv_cell).max(0);
-                let x1 = cell_of(hi.x, origin.x, *inv_cell).min(dims[0] - 1);
-                let y1 = cell_of(hi.y, origin.y, *inv_cell).min(dims[1] - 1);
-                let z1 = cell_of(hi.z, origin.z, *inv_cell).min(dims[2] - 1);
+                let x0 = cell_of(lo.x, origin.x, inv_cell.x).max(0);
+                let y0 = cell_of(lo.y, origin.y, inv_cell.y).max(0);
+                let z0 = cell_of(lo.z, origin.z, inv_cell.z).max(0);
+                let x1 = cell_of(hi.x, origin.x, inv_cell.x).min(dims[0] - 1);
+                let y1 = cell_of(hi.y, origin.y, inv_cell.y).min(dims[1] - 1);
+                let z1 = cell_of(hi.z, origin.z, inv_cell.z).min(dims[2] - 1);
                 if x0 > x1 || y0 > y1 || z0 > z1 {
                     return;
                 }
@@ -400,13 +423,12 @@ impl Collider {
                         for x in x0..=x1 {
                             let b = hash_cell(x, y, z, *mask) as usize;
                             let (a, e) = (start[b] as usize, start[b + 1] as usize);
-                            for ((atom, m), c) in self.atoms[a..e]
-                                .iter()
-                                .zip(&self.meta[a..e])
-                                .zip(&self.cells[a..e])
-                            {
-                                if *c == [x, y, z] {
-                                    f(*atom, *m);
+                            for k in a..e {
+                                if self.cells[0][k] == x
+                                    && self.cells[1][k] == y
+                                    && self.cells[2][k] == z
+                                {
+                                    f(self.atoms[k], self.meta[k]);
                                 }
                             }
                         }
@@ -415,6 +437,166 @@ impl Collider {
             }
         }
     }
+
+    /// Calls `f(position_and_radius, receptor_index << 1 | polar, d²)` for
+    /// every receptor atom whose centre lies within `radius` of `p`, with `d²`
+    /// its squared distance from `p` in f32 (`(q − p)·(q − p)`, summed x, y,
+    /// z in that order). Exactly the atoms [`Collider::visit`] on the box
+    /// around the ball would give that pass the test, with the same `d²`;
+    /// the order is the storage order of each cell run.
+    ///
+    /// # Performance
+    /// Each run of stored atoms is tested [`LANES`] at a time with the lanes
+    /// past its end masked off, so the cost per row of cells is nearly
+    /// constant and free of mispredicted loop exits.
+    #[inline]
+    pub fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, mut f: F) {
+        let r2 = radius * radius;
+        let (lo, hi) = (p - Vec3::splat(radius), p + Vec3::splat(radius));
+        match &self.index {
+            Index::Brute => self.scan(0, self.atoms.len(), p, r2, None, &mut f),
+            Index::Grid {
+                origin,
+                inv_cell,
+                dims,
+                start,
+            } => {
+                let x0 = cell_of(lo.x, origin.x, inv_cell.x).max(0);
+                let y0 = cell_of(lo.y, origin.y, inv_cell.y).max(0);
+                let z0 = cell_of(lo.z, origin.z, inv_cell.z).max(0);
+                let x1 = cell_of(hi.x, origin.x, inv_cell.x).min(dims[0] - 1);
+                let y1 = cell_of(hi.y, origin.y, inv_cell.y).min(dims[1] - 1);
+                let z1 = cell_of(hi.z, origin.z, inv_cell.z).min(dims[2] - 1);
+                if x0 > x1 || y0 > y1 || z0 > z1 {
+                    return;
+                }
+                for z in z0..=z1 {
+                    for y in y0..=y1 {
+                        let row = ((z * dims[1] + y) * dims[0]) as usize;
+                        let a = start[row + x0 as usize] as usize;
+                        let b = start[row + x1 as usize + 1] as usize;
+                        self.scan(a, b, p, r2, None, &mut f);
+                    }
+                }
+            }
+            Index::Hashed {
+                inv_cell,
+                mask,
+                start,
+                occupied: [olo, ohi],
+            } => {
+                let x0 = cell_of(lo.x, 0.0, *inv_cell).max(olo[0]);
+                let y0 = cell_of(lo.y, 0.0, *inv_cell).max(olo[1]);
+                let z0 = cell_of(lo.z, 0.0, *inv_cell).max(olo[2]);
+                let x1 = cell_of(hi.x, 0.0, *inv_cell).min(ohi[0]);
+                let y1 = cell_of(hi.y, 0.0, *inv_cell).min(ohi[1]);
+                let z1 = cell_of(hi.z, 0.0, *inv_cell).min(ohi[2]);
+                if x0 > x1 || y0 > y1 || z0 > z1 {
+                    return;
+                }
+                let count = (i64::from(x1) - i64::from(x0) + 1)
+                    * (i64::from(y1) - i64::from(y0) + 1)
+                    * (i64::from(z1) - i64::from(z0) + 1);
+                if count > i64::from(*mask) + 1 {
+                    // More cells than buckets: every atom once is cheaper.
+                    self.scan(0, self.atoms.len(), p, r2, None, &mut f);
+                    return;
+                }
+                for z in z0..=z1 {
+                    for y in y0..=y1 {
+                        for x in x0..=x1 {
+                            let b = hash_cell(x, y, z, *mask) as usize;
+                            let (a, e) = (start[b] as usize, start[b + 1] as usize);
+                            // Distinct cells may share a bucket: keep only the
+                            // atoms of this cell, so each atom comes once.
+                            self.scan(a, e, p, r2, Some([x, y, z]), &mut f);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Tests stored atoms `a..b` against the ball (`p`, `r2`) [`LANES`] at a
+    /// time, keeping only atoms of `cell` when given, and reports the atoms
+    /// inside.
+    #[inline(always)]
+    fn scan<F: FnMut(Vec4, u32, f32)>(
+        &self,
+        a: usize,
+        b: usize,
+        p: Vec3,
+        r2: f32,
+        cell: Option<[i32; 3]>,
+        f: &mut F,
+    ) {
+        let [sx, sy, sz] = &self.soa;
+        // One bound for the three arrays (they have one length), so the
+        // chunk loads below need no checks of their own.
+        let end = sx.len().min(sy.len()).min(sz.len());
+        let (px, py, pz, r2) = (
+            f32x4::splat(p.x),
+            f32x4::splat(p.y),
+            f32x4::splat(p.z),
+            f32x4::splat(r2),
+        );
+        let mut k = a;
+        loop {
+            // Always true: k ≤ len and the arrays carry LANES padding entries.
+            if k + LANES > end {
+                return;
+            }
+            let chunk = |v: &[f32]| {
+                let mut c = [0.0; LANES];
+                c.copy_from_slice(&v[k..k + LANES]);
+                f32x4::from(c)
+            };
+            let (xs, ys, zs) = (chunk(sx), chunk(sy), chunk(sz));
+            let (dx, dy, dz) = (xs - px, ys - py, zs - pz);
+            // Summed in the order of `Vec3::length_squared`: the same bits.
+            let d2 = dx * dx + dy * dy + dz * dz;
+            let live = (1u32 << b.saturating_sub(k).min(LANES)) - 1;
+            let mut hits = d2.simd_le(r2).to_bitmask() & live;
+            if let Some([cx, cy, cz]) = cell
+                && hits != 0
+            {
+                let [ax, ay, az] = &self.cells;
+                let (Some(ax), Some(ay), Some(az)) = (lanes(ax, k), lanes(ay, k), lanes(az, k))
+                else {
+                    return;
+                };
+                let same = i32x4::from(ax).simd_eq(i32x4::splat(cx))
+                    & i32x4::from(ay).simd_eq(i32x4::splat(cy))
+                    & i32x4::from(az).simd_eq(i32x4::splat(cz));
+                hits &= same.to_bitmask();
+            }
+            if hits != 0 {
+                let d2 = d2.to_array();
+                while hits != 0 {
+                    let l = hits.trailing_zeros() as usize;
+                    hits &= hits - 1;
+                    f(self.atoms[k + l], self.meta[k + l], d2[l]);
+                }
+            }
+            k += LANES;
+            if k >= b {
+                return;
+            }
+        }
+    }
+}
+
+/// The [`LANES`] entries of `v` from `k`, if there are that many.
+#[inline(always)]
+fn lanes<T: Copy>(v: &[T], k: usize) -> Option<[T; LANES]> {
+    v.get(k..k + LANES)?.try_into().ok()
+}
+
+/// `values` followed by [`LANES`] zeros.
+fn padded<T: Default + Copy>(values: impl Iterator<Item = T>) -> Vec<T> {
+    let mut out: Vec<T> = values.collect();
+    out.extend([T::default(); LANES]);
+    out
 }
 
 /// Splits a collider's `meta` word into (receptor atom index, polar).

@@ -103,7 +103,15 @@ impl DrugAtoms {
 
     /// Atom offsets from the centre, rotated by `rotation` (f64).
     pub fn rotated(&self, rel: &Pose) -> Vec<DVec3> {
+        let mut out = Vec::with_capacity(self.len());
+        self.rotated_into(rel, &mut out);
+        out
+    }
+
+    /// [`DrugAtoms::rotated`] into a reused buffer.
+    pub fn rotated_into(&self, rel: &Pose, out: &mut Vec<DVec3>) {
         let m = DMat3::from_quat(rel.rotation);
-        self.local.iter().map(|p| m * p.as_dvec3()).collect()
+        out.clear();
+        out.extend(self.local.iter().map(|p| m * p.as_dvec3()));
     }
 }
