@@ -24,7 +24,7 @@
 
 use glam::{Vec3, Vec4};
 use serde::Serialize;
-use wide::{f32x4, i32x4};
+use wide::f32x4;
 
 use super::rule::ContactRule;
 use crate::model::Molecule;
@@ -88,10 +88,9 @@ pub struct Collider {
     meta: Vec<u32>,
     /// Storage slot of each receptor atom, by receptor index.
     slot: Vec<u32>,
-    /// Integer cell of each stored atom, one array per axis padded with
-    /// [`LANES`] entries (hashed index only; empty otherwise), so a bucket
-    /// scan keeps just the atoms of the cell asked for.
-    cells: [Vec<i32>; 3],
+    /// Integer cell of each stored atom (hashed index only; empty otherwise),
+    /// so a bucket scan keeps just the atoms of the cell asked for.
+    cells: Vec<[i32; 3]>,
     index: Index,
     cell: f32,
     max_radius: f32,
@@ -287,14 +286,15 @@ impl Collider {
             slot[i as usize] = k as u32;
         }
         let cells = match &index {
-            Index::Hashed { inv_cell, .. } => [0, 1, 2].map(|k| {
-                padded(
-                    order
-                        .iter()
-                        .map(|&i| cell_of(receptor.local[i as usize][k], 0.0, *inv_cell)),
-                )
-            }),
-            _ => [Vec::new(), Vec::new(), Vec::new()],
+            Index::Hashed { inv_cell, .. } => order
+                .iter()
+                .map(|&i| {
+                    receptor.local[i as usize]
+                        .to_array()
+                        .map(|v| cell_of(v, 0.0, *inv_cell))
+                })
+                .collect(),
+            _ => Vec::new(),
         };
         Self {
             kind,
@@ -424,10 +424,7 @@ impl Collider {
                             let b = hash_cell(x, y, z, *mask) as usize;
                             let (a, e) = (start[b] as usize, start[b + 1] as usize);
                             for k in a..e {
-                                if self.cells[0][k] == x
-                                    && self.cells[1][k] == y
-                                    && self.cells[2][k] == z
-                                {
+                                if self.cells[k] == [x, y, z] {
                                     f(self.atoms[k], self.meta[k]);
                                 }
                             }
@@ -454,7 +451,7 @@ impl Collider {
         let r2 = radius * radius;
         let (lo, hi) = (p - Vec3::splat(radius), p + Vec3::splat(radius));
         match &self.index {
-            Index::Brute => self.scan(0, self.atoms.len(), p, r2, None, &mut f),
+            Index::Brute => self.scan(0, self.atoms.len(), p, r2, &mut f),
             Index::Grid {
                 origin,
                 inv_cell,
@@ -475,7 +472,7 @@ impl Collider {
                         let row = ((z * dims[1] + y) * dims[0]) as usize;
                         let a = start[row + x0 as usize] as usize;
                         let b = start[row + x1 as usize + 1] as usize;
-                        self.scan(a, b, p, r2, None, &mut f);
+                        self.scan(a, b, p, r2, &mut f);
                     }
                 }
             }
@@ -499,7 +496,7 @@ impl Collider {
                     * (i64::from(z1) - i64::from(z0) + 1);
                 if count > i64::from(*mask) + 1 {
                     // More cells than buckets: every atom once is cheaper.
-                    self.scan(0, self.atoms.len(), p, r2, None, &mut f);
+                    self.scan(0, self.atoms.len(), p, r2, &mut f);
                     return;
                 }
                 for z in z0..=z1 {
@@ -508,8 +505,19 @@ impl Collider {
                             let b = hash_cell(x, y, z, *mask) as usize;
                             let (a, e) = (start[b] as usize, start[b + 1] as usize);
                             // Distinct cells may share a bucket: keep only the
-                            // atoms of this cell, so each atom comes once.
-                            self.scan(a, e, p, r2, Some([x, y, z]), &mut f);
+                            // atoms of this cell, so each atom comes once. A
+                            // bucket is a random place in memory: one record
+                            // per atom (not the lanes' separate arrays) keeps
+                            // that to one or two cache lines on big receptors.
+                            for k in a..e {
+                                if self.cells[k] == [x, y, z] {
+                                    let q = self.atoms[k];
+                                    let d2 = (q.truncate() - p).length_squared();
+                                    if d2 <= r2 {
+                                        f(q, self.meta[k], d2);
+                                    }
+                                }
+                            }
                         }
                     }
                 }
@@ -518,18 +526,9 @@ impl Collider {
     }
 
     /// Tests stored atoms `a..b` against the ball (`p`, `r2`) [`LANES`] at a
-    /// time, keeping only atoms of `cell` when given, and reports the atoms
-    /// inside.
+    /// time and reports the atoms inside.
     #[inline(always)]
-    fn scan<F: FnMut(Vec4, u32, f32)>(
-        &self,
-        a: usize,
-        b: usize,
-        p: Vec3,
-        r2: f32,
-        cell: Option<[i32; 3]>,
-        f: &mut F,
-    ) {
+    fn scan<F: FnMut(Vec4, u32, f32)>(&self, a: usize, b: usize, p: Vec3, r2: f32, f: &mut F) {
         let [sx, sy, sz] = &self.soa;
         // One bound for the three arrays (they have one length), so the
         // chunk loads below need no checks of their own.
@@ -557,19 +556,6 @@ impl Collider {
             let d2 = dx * dx + dy * dy + dz * dz;
             let live = (1u32 << b.saturating_sub(k).min(LANES)) - 1;
             let mut hits = d2.simd_le(r2).to_bitmask() & live;
-            if let Some([cx, cy, cz]) = cell
-                && hits != 0
-            {
-                let [ax, ay, az] = &self.cells;
-                let (Some(ax), Some(ay), Some(az)) = (lanes(ax, k), lanes(ay, k), lanes(az, k))
-                else {
-                    return;
-                };
-                let same = i32x4::from(ax).simd_eq(i32x4::splat(cx))
-                    & i32x4::from(ay).simd_eq(i32x4::splat(cy))
-                    & i32x4::from(az).simd_eq(i32x4::splat(cz));
-                hits &= same.to_bitmask();
-            }
             if hits != 0 {
                 let d2 = d2.to_array();
                 while hits != 0 {
@@ -586,16 +572,10 @@ impl Collider {
     }
 }
 
-/// The [`LANES`] entries of `v` from `k`, if there are that many.
-#[inline(always)]
-fn lanes<T: Copy>(v: &[T], k: usize) -> Option<[T; LANES]> {
-    v.get(k..k + LANES)?.try_into().ok()
-}
-
 /// `values` followed by [`LANES`] zeros.
-fn padded<T: Default + Copy>(values: impl Iterator<Item = T>) -> Vec<T> {
-    let mut out: Vec<T> = values.collect();
-    out.extend([T::default(); LANES]);
+fn padded(values: impl Iterator<Item = f32>) -> Vec<f32> {
+    let mut out: Vec<f32> = values.collect();
+    out.extend([0.0; LANES]);
     out
 }
 
