@@ -350,8 +350,8 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
 }
 
 /// Working buffers of [`swept`], kept per thread so a query allocates
-/// nothing but its result: at a few hundred nanoseconds a query, five
-/// allocations were a tenth of the time.
+/// nothing but its result. The five allocations they replace were about a
+/// fifth of a query's fixed cost (0.30 → 0.24 µs on TMP/DHFR).
 #[derive(Default)]
 struct Scratch {
     ys: Vec<DVec3>,
@@ -365,6 +365,7 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
 }
 
+/// [`swept`] with its working buffers.
 fn swept_with(
     scratch: &mut Scratch,
     collider: &Collider,
