@@ -10,7 +10,7 @@
 //! - [`ColliderKind::Grid`] is a full 3-D grid over the bounding box (the
 //!   thesis's first variant). Atoms are stored sorted by cell, x fastest, so a
 //!   row of cells is one contiguous run; its cells are short in x and long in
-//!   y and z ([`GRID_EDGE`]), so a query covers few rows.
+//!   y and z (`GRID_EDGE`), so a query covers few rows.
 //! - [`ColliderKind::Hashed`] hashes cell coordinates into a table whose size is
 //!   chosen from the atom count (the thesis's variant: one pass, no bounds).
 //!   Distinct cells can share a bucket, so each stored atom keeps its cell
@@ -443,7 +443,7 @@ impl Collider {
     /// the order is the storage order of each cell run.
     ///
     /// # Performance
-    /// Each run of stored atoms is tested [`LANES`] at a time with the lanes
+    /// Each run of stored atoms is tested four at a time with the lanes
     /// past its end masked off, so the cost per row of cells is nearly
     /// constant and free of mispredicted loop exits.
     #[inline]
