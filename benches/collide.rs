@@ -28,7 +28,8 @@ use bump::collide::{
 };
 use bump::model::{self, LigandSpec, LoadOptions, Molecule};
 use bump::motion::{Pose, Screw};
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::{DVec3, Vec3};
 use parry3d::math::{Pose as PPose, Vector};
 use parry3d::query::{self, NonlinearRigidMotion, ShapeCastOptions};
@@ -196,14 +197,13 @@ fn dhfr(c: &mut Criterion) {
                 method,
             };
             let label = format!("{}-{name}", method.name());
-            let mut k = 0;
-            g.bench_function(BenchmarkId::new("touch_1A", label), |b| {
-                b.iter(|| {
-                    let (s, e) = &queries[k % queries.len()];
-                    k += 1;
-                    black_box(move_to_touch(col, &atoms, s, e, &opts))
-                })
-            });
+            touch_cycle(
+                &mut g,
+                BenchmarkId::new("touch_1A", label),
+                (col, &atoms),
+                &queries,
+                &opts,
+            );
         }
     }
     let rec = compound(&receptor, &rule);
@@ -220,17 +220,12 @@ fn dhfr(c: &mut Criterion) {
     for kind in [ColliderKind::Grid, ColliderKind::Hashed] {
         let col = Collider::build(&receptor, &parry_rule, kind);
         let atoms = DrugAtoms::new(&drug, &parry_rule, col.max_radius());
-        let opts = TouchOptions::default();
-        let mut k = 0;
-        g.bench_function(
+        touch_cycle(
+            &mut g,
             BenchmarkId::new("touch_1A", format!("swept-{}-parry-rule", kind.name())),
-            |b| {
-                b.iter(|| {
-                    let (s, e) = &queries[k % queries.len()];
-                    k += 1;
-                    black_box(move_to_touch(&col, &atoms, s, e, &opts))
-                })
-            },
+            (&col, &atoms),
+            &queries,
+            &TouchOptions::default(),
         );
     }
     g.bench_function(BenchmarkId::new("check", "parry3d"), |b| {
@@ -270,20 +265,17 @@ fn dhfr(c: &mut Criterion) {
             (*s, s.moved(d, axis, 10f64.to_radians()))
         })
         .collect();
-    for kind in [ColliderKind::Grid, ColliderKind::Hashed] {
-        let col = Collider::build(&receptor, &rule, kind);
+    for (name, col) in variants
+        .iter()
+        .filter(|(_, c)| c.kind() != ColliderKind::Brute)
+    {
         let atoms = DrugAtoms::new(&drug, &rule, col.max_radius());
-        let opts = TouchOptions::default();
-        let mut k = 0;
-        g.bench_function(
-            BenchmarkId::new("touch_1A_10deg", format!("swept-{}", kind.name())),
-            |b| {
-                b.iter(|| {
-                    let (s, e) = &screws[k % screws.len()];
-                    k += 1;
-                    black_box(move_to_touch(&col, &atoms, s, e, &opts))
-                })
-            },
+        touch_cycle(
+            &mut g,
+            BenchmarkId::new("touch_1A_10deg", format!("swept-{name}")),
+            (col, &atoms),
+            &screws,
+            &TouchOptions::default(),
         );
     }
     let motions: Vec<NonlinearRigidMotion> = screws
@@ -312,6 +304,24 @@ fn dhfr(c: &mut Criterion) {
         })
     });
     g.finish();
+}
+
+/// Benchmarks move-to-touch over `queries`, one per iteration, cycled.
+fn touch_cycle(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    id: BenchmarkId,
+    (col, atoms): (&Collider, &DrugAtoms),
+    queries: &[(Pose, Pose)],
+    opts: &TouchOptions,
+) {
+    let mut k = 0;
+    g.bench_function(id, |b| {
+        b.iter(|| {
+            let (s, e) = &queries[k % queries.len()];
+            k += 1;
+            black_box(move_to_touch(col, atoms, s, e, opts))
+        })
+    });
 }
 
 /// A 30-atom "drug" copied from the receptor's surface and pushed out along

@@ -139,6 +139,31 @@ fn cell_of(x: f32, origin: f32, inv_cell: f32) -> i32 {
     if (i as f32) > v { i - 1 } else { i }
 }
 
+/// The cells `[first, last]` (inclusive, per axis) that the box `[lo, hi]`
+/// covers in a grid with `origin` and reciprocal edges `inv_cell`, clipped to
+/// `[min, max]`; `None` when nothing is left.
+#[inline(always)]
+fn cell_box(
+    lo: Vec3,
+    hi: Vec3,
+    origin: Vec3,
+    inv_cell: Vec3,
+    min: [i32; 3],
+    max: [i32; 3],
+) -> Option<([i32; 3], [i32; 3])> {
+    let first = [
+        cell_of(lo.x, origin.x, inv_cell.x).max(min[0]),
+        cell_of(lo.y, origin.y, inv_cell.y).max(min[1]),
+        cell_of(lo.z, origin.z, inv_cell.z).max(min[2]),
+    ];
+    let last = [
+        cell_of(hi.x, origin.x, inv_cell.x).min(max[0]),
+        cell_of(hi.y, origin.y, inv_cell.y).min(max[1]),
+        cell_of(hi.z, origin.z, inv_cell.z).min(max[2]),
+    ];
+    (first[0] <= last[0] && first[1] <= last[1] && first[2] <= last[2]).then_some((first, last))
+}
+
 /// The thesis's style of spatial hash (Teschner et al. primes).
 #[inline]
 pub fn hash_cell(ix: i32, iy: i32, iz: i32, mask: u32) -> u32 {
@@ -370,15 +395,16 @@ impl Collider {
                 dims,
                 start,
             } => {
-                let x0 = cell_of(lo.x, origin.x, inv_cell.x).max(0);
-                let y0 = cell_of(lo.y, origin.y, inv_cell.y).max(0);
-                let z0 = cell_of(lo.z, origin.z, inv_cell.z).max(0);
-                let x1 = cell_of(hi.x, origin.x, inv_cell.x).min(dims[0] - 1);
-                let y1 = cell_of(hi.y, origin.y, inv_cell.y).min(dims[1] - 1);
-                let z1 = cell_of(hi.z, origin.z, inv_cell.z).min(dims[2] - 1);
-                if x0 > x1 || y0 > y1 || z0 > z1 {
+                let Some(([x0, y0, z0], [x1, y1, z1])) = cell_box(
+                    lo,
+                    hi,
+                    *origin,
+                    *inv_cell,
+                    [0; 3],
+                    [dims[0] - 1, dims[1] - 1, dims[2] - 1],
+                ) else {
                     return;
-                }
+                };
                 for z in z0..=z1 {
                     for y in y0..=y1 {
                         let row = ((z * dims[1] + y) * dims[0]) as usize;
@@ -396,15 +422,11 @@ impl Collider {
                 start,
                 occupied: [olo, ohi],
             } => {
-                let x0 = cell_of(lo.x, 0.0, *inv_cell).max(olo[0]);
-                let y0 = cell_of(lo.y, 0.0, *inv_cell).max(olo[1]);
-                let z0 = cell_of(lo.z, 0.0, *inv_cell).max(olo[2]);
-                let x1 = cell_of(hi.x, 0.0, *inv_cell).min(ohi[0]);
-                let y1 = cell_of(hi.y, 0.0, *inv_cell).min(ohi[1]);
-                let z1 = cell_of(hi.z, 0.0, *inv_cell).min(ohi[2]);
-                if x0 > x1 || y0 > y1 || z0 > z1 {
+                let Some(([x0, y0, z0], [x1, y1, z1])) =
+                    cell_box(lo, hi, Vec3::ZERO, Vec3::splat(*inv_cell), *olo, *ohi)
+                else {
                     return;
-                }
+                };
                 let count = (i64::from(x1) - i64::from(x0) + 1)
                     * (i64::from(y1) - i64::from(y0) + 1)
                     * (i64::from(z1) - i64::from(z0) + 1);
@@ -458,15 +480,16 @@ impl Collider {
                 dims,
                 start,
             } => {
-                let x0 = cell_of(lo.x, origin.x, inv_cell.x).max(0);
-                let y0 = cell_of(lo.y, origin.y, inv_cell.y).max(0);
-                let z0 = cell_of(lo.z, origin.z, inv_cell.z).max(0);
-                let x1 = cell_of(hi.x, origin.x, inv_cell.x).min(dims[0] - 1);
-                let y1 = cell_of(hi.y, origin.y, inv_cell.y).min(dims[1] - 1);
-                let z1 = cell_of(hi.z, origin.z, inv_cell.z).min(dims[2] - 1);
-                if x0 > x1 || y0 > y1 || z0 > z1 {
+                let Some(([x0, y0, z0], [x1, y1, z1])) = cell_box(
+                    lo,
+                    hi,
+                    *origin,
+                    *inv_cell,
+                    [0; 3],
+                    [dims[0] - 1, dims[1] - 1, dims[2] - 1],
+                ) else {
                     return;
-                }
+                };
                 for z in z0..=z1 {
                     for y in y0..=y1 {
                         let row = ((z * dims[1] + y) * dims[0]) as usize;
@@ -482,15 +505,11 @@ impl Collider {
                 start,
                 occupied: [olo, ohi],
             } => {
-                let x0 = cell_of(lo.x, 0.0, *inv_cell).max(olo[0]);
-                let y0 = cell_of(lo.y, 0.0, *inv_cell).max(olo[1]);
-                let z0 = cell_of(lo.z, 0.0, *inv_cell).max(olo[2]);
-                let x1 = cell_of(hi.x, 0.0, *inv_cell).min(ohi[0]);
-                let y1 = cell_of(hi.y, 0.0, *inv_cell).min(ohi[1]);
-                let z1 = cell_of(hi.z, 0.0, *inv_cell).min(ohi[2]);
-                if x0 > x1 || y0 > y1 || z0 > z1 {
+                let Some(([x0, y0, z0], [x1, y1, z1])) =
+                    cell_box(lo, hi, Vec3::ZERO, Vec3::splat(*inv_cell), *olo, *ohi)
+                else {
                     return;
-                }
+                };
                 let count = (i64::from(x1) - i64::from(x0) + 1)
                     * (i64::from(y1) - i64::from(y0) + 1)
                     * (i64::from(z1) - i64::from(z0) + 1);

@@ -26,14 +26,10 @@ pub struct Cues {
 
 impl Default for Cues {
     fn default() -> Self {
+        // Depth cueing only, as ChimeraX and PyMOL start.
         Self {
             depth: true,
-            depth_strength: 0.6,
-            outline: false,
-            ao: false,
-            shadow: false,
-            translucent: false,
-            opacity: 0.3,
+            ..Self::NONE
         }
     }
 }
