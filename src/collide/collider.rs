@@ -13,18 +13,22 @@
 //!   y and z (`GRID_EDGE`), so a query covers few rows.
 //! - [`ColliderKind::Hashed`] hashes cell coordinates into a table whose size is
 //!   chosen from the atom count (the thesis's variant: one pass, no bounds).
-//!   Distinct cells can share a bucket, so each stored atom keeps its cell
-//!   coordinates and a scan of a bucket reports only the atoms of the cell
-//!   asked for: no atom twice, no far atom.
+//!   The hash of cell `(x, y, z)` is a hash of its row `(y, z)` plus `x`
+//!   ([`hash_cell`]), so a row's cells sit in consecutive buckets and a query
+//!   scans one contiguous run of atoms per row, as in the full grid. Distinct
+//!   rows can share buckets, so each stored atom keeps its cell coordinates
+//!   and a scan reports only the atoms of the row's own cells: no atom
+//!   twice, no far atom.
 //!
-//! The cell edge is the largest contact distance a receptor atom can have with
-//! a drug atom as large as itself, so a static query touches at most 27 cells
-//! of the hashed grid. Queries ([`Collider::near`]) test the atoms of a run a
-//! few at a time with SIMD lanes (the `wide` crate, SSE2 on any x86-64).
+//! The cell edges derive from the largest contact distance a receptor atom
+//! can have with a drug atom as large as itself. Queries
+//! ([`Collider::near`]) test the atoms of a run a few at a time with SIMD
+//! lanes (the `wide` crate, SSE2 on any x86-64); the cost of a query does not
+//! depend on the receptor's size.
 
 use glam::{Vec3, Vec4};
 use serde::Serialize;
-use wide::f32x4;
+use wide::{f32x4, i32x4};
 
 use super::rule::ContactRule;
 use crate::model::Molecule;
@@ -102,23 +106,68 @@ pub struct Collider {
 enum Index {
     Brute,
     Grid {
-        origin: Vec3,
-        /// Reciprocal cell edges: see [`GRID_EDGE`].
-        inv_cell: Vec3,
+        cells: Cells,
         dims: [i32; 3],
         /// Start of each cell's run in `atoms`; one extra entry at the end.
         start: Vec<u32>,
     },
     Hashed {
-        inv_cell: f32,
+        /// Cells in absolute coordinates (origin 0), clipped to the
+        /// smallest and largest occupied cell on each axis, so a box larger
+        /// than a small receptor does not visit (or hash) empty cells.
+        cells: Cells,
         mask: u32,
         /// Start of each bucket's run in `atoms`; one extra entry at the end.
         start: Vec<u32>,
-        /// The smallest and largest occupied cell on each axis: a query box
-        /// is clipped to them, so a box larger than a small receptor does
-        /// not visit (or hash) empty cells.
-        occupied: [[i32; 3]; 2],
     },
+}
+
+/// A uniform grid's geometry in SIMD lanes (x, y, z, unused): where cell
+/// (0, 0, 0) starts, the reciprocal cell edges, and the range of cells a
+/// query is clipped to.
+#[derive(Debug, Clone, Copy)]
+struct Cells {
+    origin: f32x4,
+    inv_cell: f32x4,
+    min: i32x4,
+    max: i32x4,
+}
+
+/// Cell coordinates are clamped to ±this before conversion, so that absurd
+/// (or infinite) query boxes convert exactly and clip like any other.
+const CELL_LIMIT: f32 = (1u32 << 30) as f32;
+
+impl Cells {
+    fn new(origin: Vec3, inv_cell: Vec3, min: [i32; 3], max: [i32; 3]) -> Self {
+        Self {
+            origin: f32x4::from([origin.x, origin.y, origin.z, 0.0]),
+            inv_cell: f32x4::from([inv_cell.x, inv_cell.y, inv_cell.z, 0.0]),
+            min: i32x4::from([min[0], min[1], min[2], 0]),
+            max: i32x4::from([max[0], max[1], max[2], 0]),
+        }
+    }
+
+    /// The cells `[first, last]` (inclusive, per axis) that the box
+    /// `[lo, hi]` covers, clipped to the grid's range; `None` when nothing is
+    /// left. The cell of a coordinate is the same as [`cell_of`] gives for
+    /// it (same f32 arithmetic, then floor), three axes at once.
+    #[inline(always)]
+    fn cover(&self, lo: Vec3, hi: Vec3) -> Option<([i32; 3], [i32; 3])> {
+        let at = |v: Vec3| {
+            let v = (f32x4::from([v.x, v.y, v.z, 0.0]) - self.origin) * self.inv_cell;
+            // NaN becomes the lower limit (maxps returns its second operand).
+            let v = v
+                .fast_max(f32x4::splat(-CELL_LIMIT))
+                .fast_min(f32x4::splat(CELL_LIMIT));
+            // floor: truncate, then step down where that rounded up.
+            let t = v.fast_trunc_int().round_float();
+            (t - (t.simd_gt(v) & f32x4::ONE)).fast_trunc_int()
+        };
+        let first = at(lo).max(self.min).to_array();
+        let last = at(hi).min(self.max).to_array();
+        (first[0] <= last[0] && first[1] <= last[1] && first[2] <= last[2])
+            .then_some(([first[0], first[1], first[2]], [last[0], last[1], last[2]]))
+    }
 }
 
 /// Edges of a full-grid cell, in units of the contact-distance edge: short in
@@ -130,6 +179,12 @@ enum Index {
 /// distance; 1.25×, 1.75× and 2× for y and z, and 1× for x, were slower.
 const GRID_EDGE: Vec3 = Vec3::new(0.5, 1.5, 1.5);
 
+/// Edges of a hashed-grid cell, in units of the contact-distance edge: the
+/// full grid's shape, for the same reason (a query scans one run per row).
+/// With the thesis's cubes of one contact distance, trimethoprim/DHFR
+/// move-to-touch took 1.85 µs a query against 1.53 µs with these.
+const HASH_EDGE: Vec3 = GRID_EDGE;
+
 /// Integer cell coordinate of `x` (saturating for absurd values, 0 for NaN).
 #[inline]
 fn cell_of(x: f32, origin: f32, inv_cell: f32) -> i32 {
@@ -139,44 +194,38 @@ fn cell_of(x: f32, origin: f32, inv_cell: f32) -> i32 {
     if (i as f32) > v { i - 1 } else { i }
 }
 
-/// The cells `[first, last]` (inclusive, per axis) that the box `[lo, hi]`
-/// covers in a grid with `origin` and reciprocal edges `inv_cell`, clipped to
-/// `[min, max]`; `None` when nothing is left.
-#[inline(always)]
-fn cell_box(
-    lo: Vec3,
-    hi: Vec3,
-    origin: Vec3,
-    inv_cell: Vec3,
-    min: [i32; 3],
-    max: [i32; 3],
-) -> Option<([i32; 3], [i32; 3])> {
-    let first = [
-        cell_of(lo.x, origin.x, inv_cell.x).max(min[0]),
-        cell_of(lo.y, origin.y, inv_cell.y).max(min[1]),
-        cell_of(lo.z, origin.z, inv_cell.z).max(min[2]),
-    ];
-    let last = [
-        cell_of(hi.x, origin.x, inv_cell.x).min(max[0]),
-        cell_of(hi.y, origin.y, inv_cell.y).min(max[1]),
-        cell_of(hi.z, origin.z, inv_cell.z).min(max[2]),
-    ];
-    (first[0] <= last[0] && first[1] <= last[1] && first[2] <= last[2]).then_some((first, last))
-}
-
-/// The thesis's style of spatial hash (Teschner et al. primes).
+/// Bucket of cell `(ix, iy, iz)` in a table of `mask + 1` buckets: a
+/// hash of the row `(iy, iz)` plus `ix`, so the cells of one row fall in
+/// consecutive buckets (wrapping at the table's end) and a query scans one
+/// contiguous run of atoms per row, as in the full grid.
 #[inline]
 pub fn hash_cell(ix: i32, iy: i32, iz: i32, mask: u32) -> u32 {
-    ((ix as u32).wrapping_mul(73_856_093)
-        ^ (iy as u32).wrapping_mul(19_349_663)
-        ^ (iz as u32).wrapping_mul(83_492_791))
-        & mask
+    (ix as u32).wrapping_add(row_hash(iy, iz)) & mask
 }
 
-/// Hash-table size for `n` atoms: the next power of two at or above `n`,
-/// at least 64 buckets and at most 2^22.
+/// A row's hash: `(iy, iz)` combined without collisions between nearby
+/// rows, then mixed (MurmurHash3's 32-bit finaliser) so that the low bits
+/// a table keeps spread the rows evenly. Products of small coordinates
+/// with primes, XORed (Teschner et al.'s cell hash), share their low bits
+/// and put neighbouring rows in the same buckets.
+#[inline]
+fn row_hash(iy: i32, iz: i32) -> u32 {
+    let mut h = (iy as u32)
+        .wrapping_mul(0x9E37_79B1)
+        .wrapping_add(iz as u32);
+    h ^= h >> 16;
+    h = h.wrapping_mul(0x85EB_CA6B);
+    h ^= h >> 13;
+    h = h.wrapping_mul(0xC2B2_AE35);
+    h ^ (h >> 16)
+}
+
+/// Hash-table size for `n` atoms: the next power of two at or above `4n`,
+/// at least 64 buckets and at most 2^22. Rows of cells land at random
+/// places in the table and a query scans whole runs of buckets, so the table
+/// is kept sparse: other rows' atoms in a run are scanned for nothing.
 pub fn hashed_table_size(n: usize) -> usize {
-    n.next_power_of_two().clamp(64, 1 << 22)
+    (4 * n).next_power_of_two().clamp(64, 1 << 22)
 }
 
 /// Counting sort of atom indices by key into CSR form.
@@ -221,6 +270,8 @@ impl Collider {
             .map(|(i, (p, a))| (p.extend(a.radius), ((i as u32) << 1) | u32::from(a.polar)))
             .collect();
 
+        // Integer cell of each stored atom: the hashed index only.
+        let mut cells = Vec::new();
         let (order, index) = match kind {
             ColliderKind::Brute => ((0..n as u32).collect(), Index::Brute),
             ColliderKind::Grid => {
@@ -256,8 +307,7 @@ impl Collider {
                 (
                     order,
                     Index::Grid {
-                        origin: lo,
-                        inv_cell,
+                        cells: Cells::new(lo, inv_cell, [0; 3], dims.map(|d| d - 1)),
                         dims,
                         start,
                     },
@@ -266,39 +316,37 @@ impl Collider {
             ColliderKind::Hashed => {
                 let size = hashed_table_size(n);
                 let mask = (size - 1) as u32;
-                let inv_cell = 1.0 / cell;
-                let keys: Vec<u32> = receptor
+                let inv_cell = (HASH_EDGE * cell).recip();
+                let atom_cells: Vec<[i32; 3]> = receptor
                     .local
                     .iter()
                     .map(|p| {
-                        hash_cell(
-                            cell_of(p.x, 0.0, inv_cell),
-                            cell_of(p.y, 0.0, inv_cell),
-                            cell_of(p.z, 0.0, inv_cell),
-                            mask,
-                        )
+                        [
+                            cell_of(p.x, 0.0, inv_cell.x),
+                            cell_of(p.y, 0.0, inv_cell.y),
+                            cell_of(p.z, 0.0, inv_cell.z),
+                        ]
                     })
+                    .collect();
+                let keys: Vec<u32> = atom_cells
+                    .iter()
+                    .map(|&[x, y, z]| hash_cell(x, y, z, mask))
                     .collect();
                 let (order, start) = bucket_sort(&keys, size);
                 let mut occupied = [[i32::MAX; 3], [i32::MIN; 3]];
-                for p in &receptor.local {
-                    let c = [
-                        cell_of(p.x, 0.0, inv_cell),
-                        cell_of(p.y, 0.0, inv_cell),
-                        cell_of(p.z, 0.0, inv_cell),
-                    ];
+                for c in &atom_cells {
                     for k in 0..3 {
                         occupied[0][k] = occupied[0][k].min(c[k]);
                         occupied[1][k] = occupied[1][k].max(c[k]);
                     }
                 }
+                cells = order.iter().map(|&i| atom_cells[i as usize]).collect();
                 (
                     order,
                     Index::Hashed {
-                        inv_cell,
+                        cells: Cells::new(Vec3::ZERO, inv_cell, occupied[0], occupied[1]),
                         mask,
                         start,
-                        occupied,
                     },
                 )
             }
@@ -310,17 +358,6 @@ impl Collider {
         for (k, &i) in order.iter().enumerate() {
             slot[i as usize] = k as u32;
         }
-        let cells = match &index {
-            Index::Hashed { inv_cell, .. } => order
-                .iter()
-                .map(|&i| {
-                    receptor.local[i as usize]
-                        .to_array()
-                        .map(|v| cell_of(v, 0.0, *inv_cell))
-                })
-                .collect(),
-            _ => Vec::new(),
-        };
         Self {
             kind,
             atoms,
@@ -376,33 +413,25 @@ impl Collider {
 
     /// Calls `f(position_and_radius, receptor_index << 1 | polar)` for every
     /// receptor atom that may lie in the box `[lo, hi]` (a superset: callers
-    /// test distances). Brute force visits every atom.
+    /// test distances), each once. Brute force visits every atom.
     ///
     /// # Performance
-    /// Grid: one contiguous run per row of cells. Hashed: one bucket per cell,
-    /// filtered by cell. Neither depends on the receptor's size.
+    /// One contiguous run of atoms per row of cells in both grids; the
+    /// hashed grid keeps only the atoms of the row's own cells. Neither
+    /// depends on the receptor's size.
     #[inline]
     pub fn visit<F: FnMut(Vec4, u32)>(&self, lo: Vec3, hi: Vec3, mut f: F) {
-        match &self.index {
-            Index::Brute => {
-                for (a, m) in self.atoms.iter().zip(&self.meta) {
-                    f(*a, *m);
+        let mut run = |a: usize, b: usize, keep: &dyn Fn(usize) -> bool| {
+            for k in a..b {
+                if keep(k) {
+                    f(self.atoms[k], self.meta[k]);
                 }
             }
-            Index::Grid {
-                origin,
-                inv_cell,
-                dims,
-                start,
-            } => {
-                let Some(([x0, y0, z0], [x1, y1, z1])) = cell_box(
-                    lo,
-                    hi,
-                    *origin,
-                    *inv_cell,
-                    [0; 3],
-                    [dims[0] - 1, dims[1] - 1, dims[2] - 1],
-                ) else {
+        };
+        match &self.index {
+            Index::Brute => run(0, self.atoms.len(), &|_| true),
+            Index::Grid { cells, dims, start } => {
+                let Some(([x0, y0, z0], [x1, y1, z1])) = cells.cover(lo, hi) else {
                     return;
                 };
                 for z in z0..=z1 {
@@ -410,48 +439,23 @@ impl Collider {
                         let row = ((z * dims[1] + y) * dims[0]) as usize;
                         let a = start[row + x0 as usize] as usize;
                         let b = start[row + x1 as usize + 1] as usize;
-                        for (atom, m) in self.atoms[a..b].iter().zip(&self.meta[a..b]) {
-                            f(*atom, *m);
-                        }
+                        run(a, b, &|_| true);
                     }
                 }
             }
-            Index::Hashed {
-                inv_cell,
-                mask,
-                start,
-                occupied: [olo, ohi],
-            } => {
-                let Some(([x0, y0, z0], [x1, y1, z1])) =
-                    cell_box(lo, hi, Vec3::ZERO, Vec3::splat(*inv_cell), *olo, *ohi)
-                else {
+            Index::Hashed { cells, mask, start } => {
+                let Some(([x0, y0, z0], [x1, y1, z1])) = cells.cover(lo, hi) else {
                     return;
                 };
-                let count = (i64::from(x1) - i64::from(x0) + 1)
-                    * (i64::from(y1) - i64::from(y0) + 1)
-                    * (i64::from(z1) - i64::from(z0) + 1);
-                if count > i64::from(*mask) + 1 {
-                    // The box covers more cells than there are buckets: every
-                    // atom once is cheaper than every cell.
-                    for (a, m) in self.atoms.iter().zip(&self.meta) {
-                        f(*a, *m);
-                    }
-                    return;
-                }
-                // Distinct cells may share a bucket: keep only the atoms of the
-                // cell being visited, so each atom is reported once.
-                for z in z0..=z1 {
-                    for y in y0..=y1 {
-                        for x in x0..=x1 {
-                            let b = hash_cell(x, y, z, *mask) as usize;
-                            let (a, e) = (start[b] as usize, start[b + 1] as usize);
-                            for k in a..e {
-                                if self.cells[k] == [x, y, z] {
-                                    f(self.atoms[k], self.meta[k]);
-                                }
-                            }
-                        }
-                    }
+                let all = !hashed_rows(start, *mask, [x0, y0, z0], [x1, y1, z1], |y, z, a, b| {
+                    // Other rows' cells may share these buckets.
+                    run(a, b, &|k| {
+                        let c = self.cells[k];
+                        c[1] == y && c[2] == z && (x0..=x1).contains(&c[0])
+                    });
+                });
+                if all {
+                    run(0, self.atoms.len(), &|_| true);
                 }
             }
         }
@@ -462,32 +466,22 @@ impl Collider {
     /// its squared distance from `p` in f32 (`(q − p)·(q − p)`, summed x, y,
     /// z in that order). Exactly the atoms [`Collider::visit`] on the box
     /// around the ball would give that pass the test, with the same `d²`;
-    /// the order is the storage order of each cell run.
+    /// the order is the storage order of each row's run.
     ///
     /// # Performance
     /// Each run of stored atoms is tested four at a time with the lanes
     /// past its end masked off, so the cost per row of cells is nearly
-    /// constant and free of mispredicted loop exits.
+    /// constant and free of mispredicted loop exits. The hashed grid's
+    /// check that an atom belongs to the row (buckets are shared) is paid
+    /// only by atoms inside the ball.
     #[inline]
     pub fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, mut f: F) {
         let r2 = radius * radius;
         let (lo, hi) = (p - Vec3::splat(radius), p + Vec3::splat(radius));
         match &self.index {
-            Index::Brute => self.scan(0, self.atoms.len(), p, r2, &mut f),
-            Index::Grid {
-                origin,
-                inv_cell,
-                dims,
-                start,
-            } => {
-                let Some(([x0, y0, z0], [x1, y1, z1])) = cell_box(
-                    lo,
-                    hi,
-                    *origin,
-                    *inv_cell,
-                    [0; 3],
-                    [dims[0] - 1, dims[1] - 1, dims[2] - 1],
-                ) else {
+            Index::Brute => self.scan(0, self.atoms.len(), p, r2, &mut f, |_| true),
+            Index::Grid { cells, dims, start } => {
+                let Some(([x0, y0, z0], [x1, y1, z1])) = cells.cover(lo, hi) else {
                     return;
                 };
                 for z in z0..=z1 {
@@ -495,59 +489,44 @@ impl Collider {
                         let row = ((z * dims[1] + y) * dims[0]) as usize;
                         let a = start[row + x0 as usize] as usize;
                         let b = start[row + x1 as usize + 1] as usize;
-                        self.scan(a, b, p, r2, &mut f);
+                        self.scan(a, b, p, r2, &mut f, |_| true);
                     }
                 }
             }
-            Index::Hashed {
-                inv_cell,
-                mask,
-                start,
-                occupied: [olo, ohi],
-            } => {
-                let Some(([x0, y0, z0], [x1, y1, z1])) =
-                    cell_box(lo, hi, Vec3::ZERO, Vec3::splat(*inv_cell), *olo, *ohi)
-                else {
+            Index::Hashed { cells, mask, start } => {
+                let Some(([x0, y0, z0], [x1, y1, z1])) = cells.cover(lo, hi) else {
                     return;
                 };
-                let count = (i64::from(x1) - i64::from(x0) + 1)
-                    * (i64::from(y1) - i64::from(y0) + 1)
-                    * (i64::from(z1) - i64::from(z0) + 1);
-                if count > i64::from(*mask) + 1 {
-                    // More cells than buckets: every atom once is cheaper.
-                    self.scan(0, self.atoms.len(), p, r2, &mut f);
-                    return;
-                }
-                for z in z0..=z1 {
-                    for y in y0..=y1 {
-                        for x in x0..=x1 {
-                            let b = hash_cell(x, y, z, *mask) as usize;
-                            let (a, e) = (start[b] as usize, start[b + 1] as usize);
-                            // Distinct cells may share a bucket: keep only the
-                            // atoms of this cell, so each atom comes once. A
-                            // bucket is a random place in memory: one record
-                            // per atom (not the lanes' separate arrays) keeps
-                            // that to one or two cache lines on big receptors.
-                            for k in a..e {
-                                if self.cells[k] == [x, y, z] {
-                                    let q = self.atoms[k];
-                                    let d2 = (q.truncate() - p).length_squared();
-                                    if d2 <= r2 {
-                                        f(q, self.meta[k], d2);
-                                    }
-                                }
-                            }
-                        }
-                    }
+                let all = !hashed_rows(start, *mask, [x0, y0, z0], [x1, y1, z1], |y, z, a, b| {
+                    // An atom inside the ball lies in one of the box's
+                    // cells; it is reported from that cell's row only.
+                    self.scan(a, b, p, r2, &mut f, |k| {
+                        let c = self.cells[k];
+                        c[1] == y && c[2] == z && (x0..=x1).contains(&c[0])
+                    });
+                });
+                if all {
+                    self.scan(0, self.atoms.len(), p, r2, &mut f, |_| true);
                 }
             }
         }
     }
 
     /// Tests stored atoms `a..b` against the ball (`p`, `r2`) [`LANES`] at a
-    /// time and reports the atoms inside.
+    /// time and reports the atoms inside for which `keep` holds.
     #[inline(always)]
-    fn scan<F: FnMut(Vec4, u32, f32)>(&self, a: usize, b: usize, p: Vec3, r2: f32, f: &mut F) {
+    fn scan<F: FnMut(Vec4, u32, f32)>(
+        &self,
+        a: usize,
+        b: usize,
+        p: Vec3,
+        r2: f32,
+        f: &mut F,
+        keep: impl Fn(usize) -> bool,
+    ) {
+        if a >= b {
+            return;
+        }
         let [sx, sy, sz] = &self.soa;
         // One bound for the three arrays (they have one length), so the
         // chunk loads below need no checks of their own.
@@ -560,7 +539,7 @@ impl Collider {
         );
         let mut k = a;
         loop {
-            // Always true: k ≤ len and the arrays carry LANES padding entries.
+            // Always false: k < b ≤ len and the arrays carry LANES padding entries.
             if k + LANES > end {
                 return;
             }
@@ -569,18 +548,23 @@ impl Collider {
                 c.copy_from_slice(&v[k..k + LANES]);
                 f32x4::from(c)
             };
-            let (xs, ys, zs) = (chunk(sx), chunk(sy), chunk(sz));
-            let (dx, dy, dz) = (xs - px, ys - py, zs - pz);
+            let (dx, dy, dz) = (chunk(sx) - px, chunk(sy) - py, chunk(sz) - pz);
             // Summed in the order of `Vec3::length_squared`: the same bits.
             let d2 = dx * dx + dy * dy + dz * dz;
-            let live = (1u32 << b.saturating_sub(k).min(LANES)) - 1;
-            let mut hits = d2.simd_le(r2).to_bitmask() & live;
+            let mut hits = d2.simd_le(r2).to_bitmask();
             if hits != 0 {
+                // Lanes past the run's end hold other atoms: drop them.
+                let rest = b - k;
+                if rest < LANES {
+                    hits &= (1 << rest) - 1;
+                }
                 let d2 = d2.to_array();
                 while hits != 0 {
                     let l = hits.trailing_zeros() as usize;
                     hits &= hits - 1;
-                    f(self.atoms[k + l], self.meta[k + l], d2[l]);
+                    if keep(k + l) {
+                        f(self.atoms[k + l], self.meta[k + l], d2[l]);
+                    }
                 }
             }
             k += LANES;
@@ -589,6 +573,42 @@ impl Collider {
             }
         }
     }
+}
+
+/// Calls `f(y, z, a, b)` for each row `(y, z)` of the cells `[first,
+/// last]` in a hashed table (`start`, `mask`) and each run `a..b` of stored
+/// atoms in the row's buckets (two runs when they wrap at the table's end).
+/// Returns false, calling nothing, when the box covers more cells than
+/// there are buckets: scanning every atom once is cheaper then (and no
+/// row's buckets overlap themselves).
+#[inline(always)]
+fn hashed_rows(
+    start: &[u32],
+    mask: u32,
+    [x0, y0, z0]: [i32; 3],
+    [x1, y1, z1]: [i32; 3],
+    mut f: impl FnMut(i32, i32, usize, usize),
+) -> bool {
+    let width = i64::from(x1) - i64::from(x0) + 1;
+    let count = width * (i64::from(y1) - i64::from(y0) + 1) * (i64::from(z1) - i64::from(z0) + 1);
+    let size = mask as usize + 1;
+    if count > size as i64 {
+        return false;
+    }
+    let width = width as usize;
+    for z in z0..=z1 {
+        for y in y0..=y1 {
+            let h0 = hash_cell(x0, y, z, mask) as usize;
+            let h1 = h0 + width;
+            if h1 <= size {
+                f(y, z, start[h0] as usize, start[h1] as usize);
+            } else {
+                f(y, z, start[h0] as usize, start[size] as usize);
+                f(y, z, start[0] as usize, start[h1 - size] as usize);
+            }
+        }
+    }
+    true
 }
 
 /// `values` followed by [`LANES`] zeros.
@@ -615,5 +635,117 @@ mod tests {
         }
         assert_eq!(cell_of(f32::NAN, 0.0, 1.0), 0);
         assert_eq!(cell_of(1e30, 0.0, 1.0), i32::MAX);
+    }
+
+    #[test]
+    fn cover_is_cell_of_on_each_axis_and_clips() {
+        let cells = Cells::new(
+            Vec3::new(-1.0, 2.0, 0.5),
+            Vec3::new(1.0 / 1.5, 1.0 / 4.5, 1.0 / 4.5),
+            [-10, -10, -10],
+            [10, 10, 10],
+        );
+        let (inv, o) = ([1.0 / 1.5, 1.0 / 4.5, 1.0 / 4.5], [-1.0, 2.0, 0.5]);
+        for (lo, hi) in [
+            (Vec3::new(-3.1, 0.0, 2.9), Vec3::new(3.0, 4.5, 3.0)),
+            (Vec3::splat(-0.0), Vec3::splat(1e-7)),
+            (Vec3::new(-1.0, 2.0, 0.5), Vec3::new(-1.0, 2.0, 0.5)),
+        ] {
+            let (first, last) = cells.cover(lo, hi).expect("inside");
+            for k in 0..3 {
+                assert_eq!(first[k], cell_of(lo[k], o[k], inv[k]).max(-10));
+                assert_eq!(last[k], cell_of(hi[k], o[k], inv[k]).min(10));
+            }
+        }
+        let (first, last) = cells
+            .cover(Vec3::splat(-1e30), Vec3::splat(f32::INFINITY))
+            .expect("everything");
+        assert_eq!((first, last), ([-10; 3], [10; 3]));
+        assert!(cells.cover(Vec3::splat(1e3), Vec3::splat(2e3)).is_none());
+        assert!(cells.cover(Vec3::splat(1.0), Vec3::splat(0.0)).is_none());
+    }
+
+    /// A few atoms spread widely: the hashed table is 64 buckets, so rows
+    /// share buckets and wrap at the table's end. `near` must still give
+    /// brute force's atoms and `visit` every atom of the box once.
+    #[test]
+    fn hashed_rows_that_share_and_wrap_buckets_report_each_atom_once() {
+        use crate::model::AtomInfo;
+        use crate::rng::Rng;
+        use glam::DVec3;
+        let mut rng = Rng(11);
+        let n = 12;
+        let atoms: Vec<AtomInfo> = (0..n)
+            .map(|i| AtomInfo {
+                serial: i + 1,
+                name: format!("C{i}"),
+                residue: "RND".into(),
+                seq: 1,
+                insertion: String::new(),
+                chain: "A".into(),
+                element: "C".into(),
+                radius: 1.7,
+                polar: false,
+                hetero: false,
+            })
+            .collect();
+        let pos: Vec<DVec3> = (0..n)
+            .map(|_| {
+                DVec3::new(
+                    rng.range(-40.0, 40.0),
+                    rng.range(-6.0, 6.0),
+                    rng.range(-6.0, 6.0),
+                )
+            })
+            .collect();
+        let mol = Molecule::new("wide", atoms, &pos);
+        let rule = ContactRule::default();
+        let brute = Collider::build(&mol, &rule, ColliderKind::Brute);
+        let hashed = Collider::build(&mol, &rule, ColliderKind::Hashed);
+        let Index::Hashed { mask, .. } = &hashed.index else {
+            panic!("hashed index");
+        };
+        assert_eq!(*mask, 63);
+        let mut wrapped = false;
+        for _ in 0..2000 {
+            let p = Vec3::new(
+                rng.range(-45.0, 45.0) as f32,
+                rng.range(-8.0, 8.0) as f32,
+                rng.range(-8.0, 8.0) as f32,
+            );
+            let r = rng.range(0.5, 30.0) as f32;
+            let found = |c: &Collider| {
+                let mut v = Vec::new();
+                c.near(p, r, |_, m, d2| v.push((m, d2.to_bits())));
+                v.sort_unstable();
+                v
+            };
+            assert_eq!(found(&hashed), found(&brute), "near {p} {r}");
+            let (lo, hi) = (p - Vec3::splat(r), p + Vec3::splat(r));
+            let mut seen = Vec::new();
+            hashed.visit(lo, hi, |_, m| seen.push(m));
+            let before = seen.len();
+            seen.sort_unstable();
+            seen.dedup();
+            assert_eq!(seen.len(), before, "an atom visited twice");
+            let mut inside = Vec::new();
+            brute.visit(lo, hi, |a, m| {
+                if a.truncate().cmpge(lo).all() && a.truncate().cmple(hi).all() {
+                    inside.push(m);
+                }
+            });
+            assert!(inside.iter().all(|m| seen.binary_search(m).is_ok()));
+            if let Index::Hashed { cells, .. } = &hashed.index
+                && let Some(([x0, y0, z0], [x1, y1, z1])) = cells.cover(lo, hi)
+            {
+                let width = (x1 - x0 + 1) as u32;
+                for z in z0..=z1 {
+                    for y in y0..=y1 {
+                        wrapped |= width <= 64 && hash_cell(x0, y, z, 63) + width > 64;
+                    }
+                }
+            }
+        }
+        assert!(wrapped, "no query wrapped at the table's end");
     }
 }

@@ -96,9 +96,15 @@ impl DrugAtoms {
     pub fn placed(&self, rel: &Pose) -> impl Iterator<Item = Vec3> + '_ {
         let m = DMat3::from_quat(rel.rotation);
         let t = rel.translation;
-        self.local
-            .iter()
-            .map(move |p| (m * p.as_dvec3() + t).as_vec3())
+        (0..self.len()).map(move |i| self.place(&m, t, i))
+    }
+
+    /// Position of atom `i` in the receptor frame for the relative pose with
+    /// rotation matrix `m` (`DMat3::from_quat` of its rotation) and
+    /// translation `t`: the value [`DrugAtoms::placed`] gives for it.
+    #[inline]
+    pub fn place(&self, m: &DMat3, t: DVec3, i: usize) -> Vec3 {
+        (*m * self.local[i].as_dvec3() + t).as_vec3()
     }
 
     /// Atom offsets from the centre, rotated by `rotation` (f64).

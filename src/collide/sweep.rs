@@ -204,20 +204,17 @@ struct Candidate {
     contact: f32,
 }
 
-/// Drug atom positions at `pose`, rounded to f32 exactly as the static check does.
-fn placed_at(drug: &DrugAtoms, pose: &Pose, out: &mut Vec<Vec3>) {
-    out.clear();
-    out.extend(drug.placed(pose));
-}
-
-/// The candidates with `d ≤ c + extra` at the placed positions `xs`, sorted:
-/// the static rule applied to a candidate list.
-fn pairs_among(cands: &[Candidate], xs: &[Vec3], extra: f32) -> Vec<Pair> {
+/// The candidates with `d ≤ c + extra` with the drug at `pose` (placed as
+/// the static check places it), sorted: the static rule applied to a
+/// candidate list. Only the candidates' drug atoms are placed.
+fn pairs_among(cands: &[Candidate], drug: &DrugAtoms, pose: &Pose, extra: f32) -> Vec<Pair> {
+    let m = DMat3::from_quat(pose.rotation);
     let mut out: Vec<Pair> = cands
         .iter()
         .filter_map(|k| {
             let lim = k.contact + extra;
-            let d2 = (k.q - xs[k.drug as usize]).length_squared();
+            let x = drug.place(&m, pose.translation, k.drug as usize);
+            let d2 = (k.q - x).length_squared();
             (lim >= 0.0 && d2 <= lim * lim).then(|| Pair {
                 receptor: k.receptor,
                 drug: k.drug,
@@ -356,8 +353,6 @@ fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> Touc
 struct Scratch {
     ys: Vec<DVec3>,
     speeds: Vec<f64>,
-    xs: Vec<Vec3>,
-    xa: Vec<DVec3>,
     cands: Vec<Candidate>,
 }
 
@@ -373,17 +368,17 @@ fn swept_with(
     screw: &Screw,
     tol: f64,
 ) -> TouchResult {
-    let Scratch {
-        ys,
-        speeds,
-        xs,
-        xa,
-        cands,
-    } = scratch;
+    let Scratch { ys, speeds, cands } = scratch;
     let start = *screw.start();
     drug.rotated_into(&start, ys);
     speeds.clear();
-    speeds.extend(ys.iter().map(|y| screw.speed(*y)));
+    if screw.angle() == 0.0 {
+        // A pure translation: every atom has the centre's speed (the same
+        // value `Screw::speed` gives each, without a square root per atom).
+        speeds.resize(ys.len(), screw.speed(DVec3::ZERO));
+    } else {
+        speeds.extend(ys.iter().map(|y| screw.speed(*y)));
+    }
     let s_max = speeds.iter().copied().fold(0.0, f64::max);
     let tol32 = tol as f32;
     if s_max.is_nan() || s_max <= 0.0 || collider.is_empty() || drug.is_empty() {
@@ -453,13 +448,11 @@ fn swept_with(
                 });
             }
             if ta == 0.0 {
-                placed_at(drug, &start, xs);
-                start_colliding = pairs_among(cands, xs, 0.0);
+                start_colliding = pairs_among(cands, drug, &start, 0.0);
             }
+            // Positions at `ta` only for the atoms with candidates.
             let rot_a = DMat3::from_quat(screw.rotation_at(ta));
             let cen_a = screw.centre_at(ta);
-            xa.clear();
-            xa.extend(ys.iter().map(|y| rot_a * *y + cen_a));
             for k in cands.iter() {
                 let i = k.drug as usize;
                 let limit = t_hit.min(tb);
@@ -470,7 +463,7 @@ fn swept_with(
                     q,
                     f64::from(k.contact),
                     ta,
-                    xa[i],
+                    rot_a * ys[i] + cen_a,
                     || x_end(i),
                     limit,
                 ) && th < t_hit
@@ -491,11 +484,9 @@ fn swept_with(
     let mut pose = screw.pose_at(t);
     let mut back = tol / s_max;
     let mut tries = 0;
-    // `xs` holds the drug placed at `pose` when the loop leaves with t ≥ last_ta.
     loop {
         let colliding = if t >= last_ta {
-            placed_at(drug, &pose, xs);
-            pairs_among(cands, xs, 0.0)
+            pairs_among(cands, drug, &pose, 0.0)
         } else {
             check(collider, drug, &pose)
         };
@@ -508,7 +499,7 @@ fn swept_with(
         pose = screw.pose_at(t);
     }
     if t >= last_ta {
-        let contacts = pairs_among(cands, xs, tol32);
+        let contacts = pairs_among(cands, drug, &pose, tol32);
         finish(t, pose, start_colliding, |_| contacts)
     } else {
         finish(t, pose, start_colliding, |p| {
