@@ -372,7 +372,8 @@ fn swept_with(
     let start = *screw.start();
     drug.rotated_into(&start, ys);
     speeds.clear();
-    if screw.angle() == 0.0 {
+    let translation = screw.angle() == 0.0;
+    if translation {
         // A pure translation: every atom has the centre's speed (the same
         // value `Screw::speed` gives each, without a square root per atom).
         speeds.resize(ys.len(), screw.speed(DVec3::ZERO));
@@ -424,7 +425,12 @@ fn swept_with(
         if !outside {
             let rot_m = DMat3::from_quat(screw.rotation_at(tm));
             for (i, y) in ys.iter().enumerate() {
-                let xm = rot_m * *y + cm;
+                // A pure translation's rotation is the identity: skip it.
+                let xm = if translation {
+                    *y + cm
+                } else {
+                    rot_m * *y + cm
+                };
                 let sweep = speeds[i] * half;
                 let xm32 = xm.as_vec3();
                 // f32 slack well above the rounding of receptor-frame
