@@ -35,8 +35,8 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
     md.push_str(
         "The thesis's radii (C 1.74, O 1.40, N 1.54, S 1.80 Å), cell edge = diameter of \
          the largest atom, an atom counted in every cell its sphere overlaps, hydrogens \
-         and waters left out; hashed: 4096 buckets (our hash, Teschner et al.'s primes, \
-         not Turk's). The same numbers come from `bump stats FILES`.\n\n\
+         and waters left out; hashed: 4096 buckets (our hash: the cell's row (y, z) mixed \
+         by MurmurHash3's finaliser, plus x; not Turk's). The same numbers come from `bump stats FILES`.\n\n\
          | molecule (thesis) | thesis atoms | thesis hashed | thesis grid | file (ours) | atoms | cell Å | hashed | grid | grid, by centre |\n\
          | --- | ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: |\n",
     );
@@ -82,10 +82,11 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
     }
     md.push_str(
         "\nThe full-grid column reproduces the thesis's \"about 10 atoms per cell\". The \
-         hashed column is higher than the thesis's, most where a large ion (Ca, Fe, Mn, Sm: \
-         2.0 Å default radius) made the cells big: with sphere-overlap counting these \
-         molecules occupy more cells than there are buckets. The colliders themselves use \
-         3 Å cells and a table sized from the atom count, not 4096 buckets.\n",
+         hashed column is above the thesis's where a large ion (Ca, Fe, Mn, Sm: 2.0 Å \
+         default radius) made the cells big: with sphere-overlap counting these molecules \
+         occupy more cells than there are buckets. The colliders themselves use cells of \
+         0.5 × 1.5 × 1.5 contact distances and a table of four to eight buckets per atom, not \
+         4096 buckets.\n",
     );
     Section {
         markdown: md,
