@@ -670,25 +670,12 @@ mod tests {
     /// brute force's atoms and `visit` every atom of the box once.
     #[test]
     fn hashed_rows_that_share_and_wrap_buckets_report_each_atom_once() {
-        use crate::model::AtomInfo;
+        use crate::model::molecule::test_carbon;
         use crate::rng::Rng;
         use glam::DVec3;
         let mut rng = Rng(11);
-        let n = 12;
-        let atoms: Vec<AtomInfo> = (0..n)
-            .map(|i| AtomInfo {
-                serial: i + 1,
-                name: format!("C{i}"),
-                residue: "RND".into(),
-                seq: 1,
-                insertion: String::new(),
-                chain: "A".into(),
-                element: "C".into(),
-                radius: 1.7,
-                polar: false,
-                hetero: false,
-            })
-            .collect();
+        let n: i64 = 12;
+        let atoms = (1..=n).map(test_carbon).collect();
         let pos: Vec<DVec3> = (0..n)
             .map(|_| {
                 DVec3::new(

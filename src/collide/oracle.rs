@@ -237,20 +237,7 @@ mod tests {
     use super::*;
     use crate::collide::ColliderKind;
 
-    fn carbon(serial: i64) -> AtomInfo {
-        AtomInfo {
-            serial,
-            name: format!("C{serial}"),
-            residue: "X".into(),
-            seq: 1,
-            insertion: String::new(),
-            chain: "A".into(),
-            element: "C".into(),
-            radius: 1.7,
-            polar: false,
-            hetero: false,
-        }
-    }
+    use crate::model::molecule::test_carbon as carbon;
 
     fn one_atom(x: f64) -> Molecule {
         Molecule::new("a", vec![carbon(1)], &[DVec3::new(x, 0.0, 0.0)])

@@ -100,3 +100,21 @@ impl Molecule {
             .fold(0.0, f64::max)
     }
 }
+
+/// A carbon atom (Bondi radius, chain A) for unit tests that build molecules
+/// by hand.
+#[cfg(test)]
+pub(crate) fn test_carbon(serial: i64) -> AtomInfo {
+    AtomInfo {
+        serial,
+        name: format!("C{serial}"),
+        residue: "X".into(),
+        seq: 1,
+        insertion: String::new(),
+        chain: "A".into(),
+        element: "C".into(),
+        radius: 1.7,
+        polar: false,
+        hetero: false,
+    }
+}
