@@ -2,8 +2,10 @@
 //! within a tolerance, and the smallest gap.
 //!
 //! The drug's atoms are placed in the receptor frame with one relative pose
-//! (f64, rounded to f32 once per atom); each atom asks the collider for the
-//! receptor atoms in a box around it and applies the contact rule exactly.
+//! (f64, rounded to f32 once per atom); each atom that the collider's
+//! clearance map cannot prove far from every receptor atom asks the collider
+//! for the receptor atoms in a ball around it and applies the contact rule
+//! exactly.
 //! Results are sorted by receptor atom, then drug atom, so every collider gives
 //! the same list.
 
@@ -57,6 +59,10 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
     mut f: F,
 ) {
     for (i, x) in drug.placed(rel).enumerate() {
+        // Nothing within `c + extra` of this atom: no search.
+        if collider.clear(x, drug.own(i) + extra.max(0.0)) {
+            continue;
+        }
         let far = drug.reach[i] + extra.max(0.0);
         let mut go_on = true;
         collider.near(x, far, |a, meta, d2| {

@@ -30,6 +30,7 @@ use glam::{Vec3, Vec4};
 use serde::Serialize;
 use wide::{f32x4, i32x4};
 
+use super::clearance::Clearance;
 use super::rule::ContactRule;
 use crate::model::Molecule;
 
@@ -96,6 +97,9 @@ pub struct Collider {
     /// so a bucket scan keeps just the atoms of the cell asked for.
     cells: Vec<[i32; 3]>,
     index: Index,
+    /// How far points are from the atoms (grids only; the reference
+    /// stays plain brute force).
+    clearance: Option<Clearance>,
     cell: f32,
     max_radius: f32,
     lo: Vec3,
@@ -358,6 +362,10 @@ impl Collider {
         for (k, &i) in order.iter().enumerate() {
             slot[i as usize] = k as u32;
         }
+        let clearance = match kind {
+            ColliderKind::Brute => None,
+            ColliderKind::Grid | ColliderKind::Hashed => Clearance::build(&atoms),
+        };
         Self {
             kind,
             atoms,
@@ -366,6 +374,7 @@ impl Collider {
             slot,
             cells,
             index,
+            clearance,
             cell,
             max_radius,
             lo,
@@ -399,6 +408,20 @@ impl Collider {
     /// When `index` is not a receptor atom index.
     pub fn atom_position(&self, index: u32) -> Vec3 {
         self.atoms[self.slot[index as usize] as usize].truncate()
+    }
+
+    /// True when the collider can prove that no receptor atom's surface
+    /// lies within `d` of `x` (`|x − q_j| − r_j > d` for every atom `j`),
+    /// from its [`Clearance`] map; false when it cannot, and always for
+    /// brute force.
+    #[inline]
+    pub fn clear(&self, x: Vec3, d: f32) -> bool {
+        self.clearance.as_ref().is_some_and(|c| c.clear(x, d))
+    }
+
+    /// Bytes of the clearance map (0 for none).
+    pub fn clearance_bytes(&self) -> usize {
+        self.clearance.as_ref().map_or(0, Clearance::bytes)
     }
 
     /// Number of receptor atoms.

@@ -1,7 +1,7 @@
 //! A drug prepared for queries against one receptor collider: its atoms'
 //! local positions, radii and the per-atom parts of the contact distance.
 
-use glam::{DMat3, DVec3, Vec3};
+use glam::{DMat3, DQuat, DVec3, Vec3};
 
 use super::rule::ContactRule;
 use crate::model::Molecule;
@@ -80,6 +80,13 @@ impl DrugAtoms {
         self.local.is_empty()
     }
 
+    /// The largest contact distance of drug atom `i` with a receptor atom,
+    /// less that atom's radius: `contact(i, r, polar) ≤ r + own(i)`.
+    #[inline]
+    pub fn own(&self, i: usize) -> f32 {
+        self.c_plain[i].max(self.c_polar[i])
+    }
+
     /// Contact distance of drug atom `i` with a receptor atom of radius `r`
     /// and polarity `polar` (see [`ContactRule`]).
     #[inline]
@@ -116,8 +123,14 @@ impl DrugAtoms {
 
     /// [`DrugAtoms::rotated`] into a reused buffer.
     pub fn rotated_into(&self, rel: &Pose, out: &mut Vec<DVec3>) {
-        let m = DMat3::from_quat(rel.rotation);
         out.clear();
+        if rel.rotation == DQuat::IDENTITY {
+            // The identity matrix would give the same values (up to the
+            // sign of a zero), nine products per atom later.
+            out.extend(self.local.iter().map(|p| p.as_dvec3()));
+            return;
+        }
+        let m = DMat3::from_quat(rel.rotation);
         out.extend(self.local.iter().map(|p| m * p.as_dvec3()));
     }
 }

@@ -437,6 +437,11 @@ fn swept_with(
                 // f32 slack well above the rounding of receptor-frame
                 // coordinates, so the f32 tests below keep a superset.
                 let slack = (sweep + tol) as f32 + 1e-3;
+                // Nothing within reach over the whole interval: no search.
+                // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
+                if collider.clear(xm32, drug.own(i) + slack) {
+                    continue;
+                }
                 let far = drug.reach[i] + slack;
                 collider.near(xm32, far, |a, meta, d2| {
                     let q = a.truncate();
