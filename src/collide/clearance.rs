@@ -93,11 +93,13 @@ impl Clearance {
         for a in atoms {
             let (q, r) = (a.truncate(), a.w);
             let reach = r + CAP;
-            let first = ((q - Vec3::splat(reach) - origin) * inv_spacing).floor();
-            let last = ((q + Vec3::splat(reach) - origin) * inv_spacing).ceil();
+            // Lattice coordinates are positive (the lattice has a margin):
+            // truncation is the floor, and one more covers the ceiling.
+            let first = (q - Vec3::splat(reach) - origin) * inv_spacing;
+            let last = (q + Vec3::splat(reach) - origin) * inv_spacing + Vec3::ONE;
             let clip = |v: f32, n: usize| (v.max(0.0) as usize).min(n - 1);
-            let (x0, y0, z0) = (clip(first.x, nx), clip(first.y, ny), clip(first.z, nz));
-            let (x1, y1, z1) = (clip(last.x, nx), clip(last.y, ny), clip(last.z, nz));
+            let (y0, z0) = (clip(first.y, ny), clip(first.z, nz));
+            let (y1, z1) = (clip(last.y, ny), clip(last.z, nz));
             for iz in z0..=z1 {
                 let dz = origin.z + iz as f32 * spacing - q.z;
                 for iy in y0..=y1 {
@@ -106,14 +108,17 @@ impl Clearance {
                     if dyz > reach * reach {
                         continue;
                     }
+                    // Only the vertices of the row within reach: the chord.
+                    let chord = (reach * reach - dyz).sqrt();
+                    let x0 = clip((q.x - chord - origin.x) * inv_spacing, nx);
+                    let x1 = clip((q.x + chord - origin.x) * inv_spacing + 1.0, nx);
                     let row = (iz * ny + iy) * nx;
-                    for (ix, value) in f[row + x0..=row + x1].iter_mut().enumerate() {
-                        let dx = origin.x + (x0 + ix) as f32 * spacing - q.x;
-                        let d2 = dx * dx + dyz;
-                        let limit = *value + r;
-                        if limit > 0.0 && d2 < limit * limit {
-                            *value = (f64::from(d2).sqrt() - f64::from(r)) as f32;
-                        }
+                    let dx0 = origin.x + x0 as f32 * spacing - q.x;
+                    // Branch-free, so the compiler can use SIMD lanes; the
+                    // f32 square root's error is far inside ROUNDING.
+                    for (k, value) in (0i32..).zip(&mut f[row + x0..=row + x1]) {
+                        let dx = dx0 + k as f32 * spacing;
+                        *value = value.min((dx * dx + dyz).sqrt() - r);
                     }
                 }
             }
@@ -122,7 +127,8 @@ impl Clearance {
         // distances above, so each stored value is at most `f(v)`.
         let values = f
             .iter()
-            .map(|&v| ((v - ROUNDING) * SCALE).floor().clamp(0.0, 255.0) as u8)
+            // Truncation is the floor here: the value is not negative.
+            .map(|&v| ((v - ROUNDING) * SCALE).clamp(0.0, 255.0) as u8)
             .collect();
         Some(Self {
             origin: f32x4::from([origin.x, origin.y, origin.z, 0.0]),
