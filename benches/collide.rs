@@ -45,6 +45,13 @@ fn data_dir() -> Option<PathBuf> {
     }
 }
 
+/// `col` once its clearance map (built on its own thread) is there, so
+/// every sample times the queries as they run from then on.
+fn ready(col: Collider) -> Collider {
+    col.wait_for_clearance();
+    col
+}
+
 /// parry's sphere model of the rule: balls of radius r − overlap/2.
 fn compound(m: &Molecule, rule: &ContactRule) -> Compound {
     let half = rule.overlap / 2.0;
@@ -178,7 +185,7 @@ fn dhfr(c: &mut Criterion) {
         .map(|&kind| {
             (
                 kind.name().to_string(),
-                Collider::build(&receptor, &rule, kind),
+                ready(Collider::build(&receptor, &rule, kind)),
             )
         })
         .collect();
@@ -218,7 +225,7 @@ fn dhfr(c: &mut Criterion) {
         &dr,
     );
     for kind in [ColliderKind::Grid, ColliderKind::Hashed] {
-        let col = Collider::build(&receptor, &parry_rule, kind);
+        let col = ready(Collider::build(&receptor, &parry_rule, kind));
         let atoms = DrugAtoms::new(&drug, &parry_rule, col.max_radius());
         touch_cycle(
             &mut g,
@@ -380,7 +387,7 @@ fn scaling(c: &mut Criterion) {
         let end = start.moved(-out * 1.5, DVec3::ZERO, 0.0);
         let label = format!("{n}");
         for kind in ColliderKind::ALL {
-            let col = Collider::build(&receptor, &rule, kind);
+            let col = ready(Collider::build(&receptor, &rule, kind));
             let atoms = DrugAtoms::new(&drug, &rule, col.max_radius());
             g.bench_function(
                 BenchmarkId::new(format!("check-{}", kind.name()), &label),
@@ -425,7 +432,7 @@ fn scaling(c: &mut Criterion) {
             &rec,
             &dr,
         );
-        let col = Collider::build(&receptor, &parry_rule, ColliderKind::Grid);
+        let col = ready(Collider::build(&receptor, &parry_rule, ColliderKind::Grid));
         let atoms = DrugAtoms::new(&drug, &parry_rule, col.max_radius());
         let opts = TouchOptions::default();
         g.bench_function(BenchmarkId::new("touch-grid-parry-rule", &label), |b| {

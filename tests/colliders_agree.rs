@@ -1,9 +1,14 @@
 //! Every collider returns exactly brute force's sorted pair list: on random
-//! sphere sets (property tests) and on real structures.
+//! sphere sets (property tests) and on real structures. Move-to-touch, which
+//! asks the grids' clearance maps which drug atoms it may skip, returns
+//! brute force's answer bit for bit.
 
 mod common;
 
-use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, check, pairs_within};
+use bump::collide::{
+    Collider, ColliderKind, ContactRule, DrugAtoms, TouchOptions, check, move_to_touch,
+    pairs_within,
+};
 use bump::motion::Pose;
 use common::{Rng, random_molecule};
 use glam::{DQuat, DVec3};
@@ -49,6 +54,42 @@ proptest! {
         let rel = Pose::new(DQuat::from_axis_angle(axis, ang), DVec3::new(ox, 0.3 * ox, -0.2 * ox));
         agree(&receptor, &drug, &rel, 0.0);
         agree(&receptor, &drug, &rel, extra);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+    #[test]
+    fn move_to_touch_matches_brute_force_bit_for_bit(
+        seed in any::<u64>(), n in 1usize..400, m in 1usize..30, size in 5.0f64..40.0,
+        sx in -20.0f64..20.0, dx in -6.0f64..6.0, dy in -6.0f64..6.0, deg in -40.0f64..40.0,
+        tol in 1e-5f64..1e-1,
+    ) {
+        let mut rng = Rng(seed | 1);
+        let receptor = random_molecule(&mut rng, n, size, DVec3::new(-4e4, 2.0, 9.0), true);
+        let drug = random_molecule(&mut rng, m, 6.0, DVec3::ZERO, true);
+        let cols = colliders(&receptor);
+        let rule = ContactRule::default();
+        let d = DrugAtoms::new(&drug, &rule, cols[0].max_radius());
+        let start = Pose::new(
+            DQuat::from_axis_angle(DVec3::new(0.3, -0.5, 0.8).normalize(), 0.1 * sx),
+            DVec3::new(sx, 0.5 * sx, -0.3 * sx),
+        );
+        let end = start.moved(DVec3::new(dx, dy, -dx), DVec3::new(dy, 1.0, 0.2), deg.to_radians());
+        let opts = TouchOptions { tolerance: tol, ..TouchOptions::default() };
+        let reference = move_to_touch(&cols[0], &d, &start, &end, &opts);
+        for c in &cols[1..] {
+            let r = move_to_touch(c, &d, &start, &end, &opts);
+            prop_assert_eq!(r.t.to_bits(), reference.t.to_bits(), "{:?} t", c.kind());
+            prop_assert_eq!(r.pose, reference.pose, "{:?} pose", c.kind());
+            prop_assert_eq!(&r.contacts, &reference.contacts, "{:?} contacts", c.kind());
+            prop_assert_eq!(
+                &r.start_colliding,
+                &reference.start_colliding,
+                "{:?} start",
+                c.kind()
+            );
+        }
     }
 }
 

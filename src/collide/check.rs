@@ -58,9 +58,10 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
     extra: f32,
     mut f: F,
 ) {
+    let clearance = collider.clearance();
     for (i, x) in drug.placed(rel).enumerate() {
         // Nothing within `c + extra` of this atom: no search.
-        if collider.clear(x, drug.own(i) + extra.max(0.0)) {
+        if clearance.is_some_and(|map| map.clear(x, drug.own(i) + extra.max(0.0))) {
             continue;
         }
         let far = drug.reach[i] + extra.max(0.0);

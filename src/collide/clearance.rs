@@ -172,19 +172,24 @@ impl Clearance {
         let (f0, f1) = (pair(base + slab), pair(base + slab + row));
         let near = i32x4::from([n0[0], n0[1], n1[0], n1[1]]).round_float();
         let far = i32x4::from([f0[0], f0[1], f1[0], f1[1]]).round_float();
-        // Distances to the corners in lattice units: x alternates, then y.
+        // Squared distances to the corners in lattice units: x alternates,
+        // then y; the near face (z of the cell), then the far one.
         let dx = f32x4::splat(fx) - f32x4::from([0.0, 1.0, 0.0, 1.0]);
         let dy = f32x4::splat(fy) - f32x4::from([0.0, 0.0, 1.0, 1.0]);
         let dxy = dx * dx + dy * dy;
-        let (fz0, fz1) = (fz, fz - 1.0);
-        let dist_near = (dxy + f32x4::splat(fz0 * fz0)).sqrt();
-        let dist_far = (dxy + f32x4::splat(fz1 * fz1)).sqrt();
+        let fz1 = fz - 1.0;
+        let d2_near = dxy + f32x4::splat(fz * fz);
+        let d2_far = dxy + f32x4::splat(fz1 * fz1);
+        // A corner proves it when value − need > spacing · distance: both
+        // sides squared, the left side positive, so no square roots.
         let scale = f32x4::splat(1.0 / SCALE);
-        let step = f32x4::splat(self.spacing);
+        let step2 = f32x4::splat(self.spacing * self.spacing);
         let need = f32x4::splat(d + ROUNDING);
-        let bound_near = near * scale - dist_near * step;
-        let bound_far = far * scale - dist_far * step;
-        (bound_near.simd_gt(need) | bound_far.simd_gt(need)).any()
+        let proves = |value: f32x4, d2: f32x4| {
+            let room = value * scale - need;
+            room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(d2 * step2)
+        };
+        (proves(near, d2_near) | proves(far, d2_far)).any()
     }
 
     /// Bytes the map takes.

@@ -24,7 +24,11 @@
 //! can have with a drug atom as large as itself. Queries
 //! ([`Collider::near`]) test the atoms of a run a few at a time with SIMD
 //! lanes (the `wide` crate, SSE2 on any x86-64); the cost of a query does not
-//! depend on the receptor's size.
+//! depend on the receptor's size. Both grids also keep a [`Clearance`] map,
+//! so callers can skip the query for a point with nothing in reach
+//! ([`Collider::clear`]); brute force, the reference, has none.
+
+use std::sync::{Arc, OnceLock};
 
 use glam::{Vec3, Vec4};
 use serde::Serialize;
@@ -98,8 +102,10 @@ pub struct Collider {
     cells: Vec<[i32; 3]>,
     index: Index,
     /// How far points are from the atoms (grids only; the reference
-    /// stays plain brute force).
-    clearance: Option<Clearance>,
+    /// stays plain brute force). Built on its own thread, so a collider
+    /// answers at once; queries use the map once it is there. Answers are
+    /// the same with or without it, only their speed differs.
+    clearance: Arc<OnceLock<Option<Clearance>>>,
     cell: f32,
     max_radius: f32,
     lo: Vec3,
@@ -362,10 +368,29 @@ impl Collider {
         for (k, &i) in order.iter().enumerate() {
             slot[i as usize] = k as u32;
         }
-        let clearance = match kind {
-            ColliderKind::Brute => None,
-            ColliderKind::Grid | ColliderKind::Hashed => Clearance::build(&atoms),
-        };
+        let clearance = Arc::new(OnceLock::new());
+        match kind {
+            ColliderKind::Brute => {
+                let _ = clearance.set(None);
+            }
+            ColliderKind::Grid | ColliderKind::Hashed => {
+                // The map takes longer to build than the grid (11 ms for
+                // 1.3k atoms, ~0.3 s for 272k); the session rebuilds its
+                // collider when the selection changes, so it must not wait.
+                let (slot, copy) = (Arc::clone(&clearance), atoms.clone());
+                let spawned = std::thread::Builder::new()
+                    .name("bump-clearance".into())
+                    .spawn(move || {
+                        // Set even if the build panicked, so nobody waits forever.
+                        let map = std::panic::catch_unwind(|| Clearance::build(&copy));
+                        let _ = slot.set(map.ok().flatten());
+                    });
+                if spawned.is_err() {
+                    // No thread to be had: build it here.
+                    let _ = clearance.set(Clearance::build(&atoms));
+                }
+            }
+        }
         Self {
             kind,
             atoms,
@@ -414,14 +439,21 @@ impl Collider {
     /// lies within `d` of `x` (`|x − q_j| − r_j > d` for every atom `j`),
     /// from its [`Clearance`] map; false when it cannot, and always for
     /// brute force.
-    #[inline]
+    #[inline(always)]
     pub fn clear(&self, x: Vec3, d: f32) -> bool {
-        self.clearance.as_ref().is_some_and(|c| c.clear(x, d))
+        matches!(self.clearance.get(), Some(Some(c)) if c.clear(x, d))
     }
 
-    /// Bytes of the clearance map (0 for none).
-    pub fn clearance_bytes(&self) -> usize {
-        self.clearance.as_ref().map_or(0, Clearance::bytes)
+    /// The clearance map, once built (the grids have one; brute force has
+    /// none).
+    pub fn clearance(&self) -> Option<&Clearance> {
+        self.clearance.get().and_then(Option::as_ref)
+    }
+
+    /// Waits until the clearance map is built (at once for brute force),
+    /// so benchmarks time the queries as they run from then on.
+    pub fn wait_for_clearance(&self) -> Option<&Clearance> {
+        self.clearance.wait().as_ref()
     }
 
     /// Number of receptor atoms.

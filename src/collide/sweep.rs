@@ -10,7 +10,9 @@
 //! each; in an interval, atom `i` stays inside a ball around its mid-interval
 //! position of radius `s_i·Δt/2`, so the collider's box query around that ball
 //! finds every receptor atom it could reach (nothing is skipped, however long
-//! the step). Intervals are taken in order and the first hit ends the search.
+//! the step); an atom whose ball the collider's clearance map proves empty
+//! ([`Collider::clear`]) has no candidates and skips the query. Intervals
+//! are taken in order and the first hit ends the search.
 //!
 //! For each candidate pair the first time its gap reaches the target is found
 //! by conservative advancement on `f(t) = |x(t) − q|² − c²`: from `t`, the
@@ -408,6 +410,8 @@ fn swept_with(
     // start (rare), so they are computed on demand.
     let end_rot = DMat3::from_quat(screw.end().rotation);
     let x_end = |i: usize| end_rot * drug.local[i].as_dvec3() + screw.end().translation;
+    // Looked up once: the map may still be building on its own thread.
+    let clearance = collider.clearance();
     let mut start_colliding: Vec<Pair> = Vec::new();
     let mut t_hit = 1.0f64;
     let mut ta = 0.0f64;
@@ -439,7 +443,7 @@ fn swept_with(
                 let slack = (sweep + tol) as f32 + 1e-3;
                 // Nothing within reach over the whole interval: no search.
                 // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
-                if collider.clear(xm32, drug.own(i) + slack) {
+                if clearance.is_some_and(|map| map.clear(xm32, drug.own(i) + slack)) {
                     continue;
                 }
                 let far = drug.reach[i] + slack;
@@ -461,6 +465,13 @@ fn swept_with(
             }
             if ta == 0.0 {
                 start_colliding = pairs_among(cands, drug, &start, 0.0);
+            }
+            // A screw's second-order bound depends on how far ahead the
+            // earliest touch found so far is, so a pair's computed touch
+            // time can depend (in its last bits) on the order the pairs
+            // are taken in: take them in one order, whatever the collider's.
+            if !translation {
+                cands.sort_unstable_by_key(|k| (k.drug, k.receptor));
             }
             // Positions at `ta` only for the atoms with candidates.
             let rot_a = DMat3::from_quat(screw.rotation_at(ta));

@@ -222,6 +222,8 @@ mod parry {
 fn measure(ctx: &Context, rule: &ContactRule, case: &Case, kind: Kind) -> Row {
     let hashed = Collider::build(&case.receptor, rule, ColliderKind::Hashed);
     let grid = Collider::build(&case.receptor, rule, ColliderKind::Grid);
+    hashed.wait_for_clearance();
+    grid.wait_for_clearance();
     let atoms = DrugAtoms::new(&case.drug, rule, hashed.max_radius());
     #[cfg(feature = "parry")]
     let (rec, dr) = (
