@@ -27,14 +27,17 @@ impl Rng {
         lo + (hi - lo) * self.f64()
     }
 
+    /// Uniform in the box `[-half, half)` (x, y, z drawn in that order).
+    pub fn in_box(&mut self, half: DVec3) -> DVec3 {
+        let x = self.range(-half.x, half.x);
+        let y = self.range(-half.y, half.y);
+        DVec3::new(x, y, self.range(-half.z, half.z))
+    }
+
     /// A uniformly random unit vector (rejection sampling in the ball).
     pub fn unit(&mut self) -> DVec3 {
         loop {
-            let v = DVec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
+            let v = self.in_box(DVec3::ONE);
             let l = v.length();
             if l > 0.1 && l <= 1.0 {
                 return v / l;

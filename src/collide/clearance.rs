@@ -79,8 +79,10 @@ impl Clearance {
         let margin = CAP + max_radius;
         let dims = loop {
             let span = (hi - lo + Vec3::splat(2.0 * (margin + spacing))) / spacing;
-            let dims = [span.x, span.y, span.z].map(|s| s.ceil() as usize + 1);
-            if dims.iter().product::<usize>() <= MAX_VERTICES {
+            // Saturating, so absurd coordinates only make the lattice coarser.
+            let dims = [span.x, span.y, span.z].map(|s| (s.ceil() as usize).saturating_add(1));
+            let total = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
+            if total.is_some_and(|n| n <= MAX_VERTICES) {
                 break dims;
             }
             spacing *= 1.25;
@@ -127,7 +129,7 @@ impl Clearance {
         // distances above, so each stored value is at most `f(v)`.
         let values = f
             .iter()
-            // Truncation is the floor here: the value is not negative.
+            // Clamped first, so truncation is the floor.
             .map(|&v| ((v - ROUNDING) * SCALE).clamp(0.0, 255.0) as u8)
             .collect();
         Some(Self {
@@ -207,6 +209,7 @@ impl Clearance {
 mod tests {
     use super::*;
     use crate::rng::Rng;
+    use glam::DVec3;
 
     fn exact(atoms: &[Vec4], x: Vec3) -> f64 {
         atoms
@@ -223,23 +226,15 @@ mod tests {
         let mut rng = Rng(5);
         let atoms: Vec<Vec4> = (0..300)
             .map(|_| {
-                Vec4::new(
-                    rng.range(-15.0, 15.0) as f32,
-                    rng.range(-15.0, 15.0) as f32,
-                    rng.range(-15.0, 15.0) as f32,
-                    rng.range(1.2, 2.0) as f32,
-                )
+                let q = rng.in_box(DVec3::splat(15.0)).as_vec3();
+                q.extend(rng.range(1.2, 2.0) as f32)
             })
             .collect();
         let map = Clearance::build(&atoms).expect("atoms");
         assert_eq!(map.spacing(), FINEST);
         let (mut said, mut could) = (0, 0);
         for _ in 0..20_000 {
-            let x = Vec3::new(
-                rng.range(-25.0, 25.0) as f32,
-                rng.range(-25.0, 25.0) as f32,
-                rng.range(-25.0, 25.0) as f32,
-            );
+            let x = rng.in_box(DVec3::splat(25.0)).as_vec3();
             let d = rng.range(0.0, 3.2) as f32;
             let f = exact(&atoms, x);
             let clear = map.clear(x, d);
@@ -303,5 +298,13 @@ mod tests {
         assert!(map.bytes() <= MAX_VERTICES);
         assert!(map.clear(Vec3::new(0.0, 100.0, 100.0), 1.0));
         assert!(!map.clear(Vec3::new(-400.0, 0.0, 1.0), 0.2));
+        // Absurdly far apart: a very coarse lattice, still a lower bound.
+        let atoms = [
+            Vec4::new(-1e30, 0.0, 0.0, 1.5),
+            Vec4::new(1e30, 1e6, -1e6, 1.5),
+        ];
+        let map = Clearance::build(&atoms).expect("atoms");
+        assert!(map.bytes() <= MAX_VERTICES);
+        assert!(!map.clear(Vec3::new(1e30, 1e6, -1e6), 0.2));
     }
 }

@@ -26,7 +26,7 @@
 //! lanes (the `wide` crate, SSE2 on any x86-64); the cost of a query does not
 //! depend on the receptor's size. Both grids also keep a [`Clearance`] map,
 //! so callers can skip the query for a point with nothing in reach
-//! ([`Collider::clear`]); brute force, the reference, has none.
+//! ([`Collider::clearance`]); brute force, the reference, has none.
 
 use std::sync::{Arc, OnceLock};
 
@@ -435,17 +435,9 @@ impl Collider {
         self.atoms[self.slot[index as usize] as usize].truncate()
     }
 
-    /// True when the collider can prove that no receptor atom's surface
-    /// lies within `d` of `x` (`|x − q_j| − r_j > d` for every atom `j`),
-    /// from its [`Clearance`] map; false when it cannot, and always for
-    /// brute force.
-    #[inline(always)]
-    pub fn clear(&self, x: Vec3, d: f32) -> bool {
-        matches!(self.clearance.get(), Some(Some(c)) if c.clear(x, d))
-    }
-
     /// The clearance map, once built (the grids have one; brute force has
-    /// none).
+    /// none). Queries look it up once, then ask it per point
+    /// ([`Clearance::clear`]).
     pub fn clearance(&self) -> Option<&Clearance> {
         self.clearance.get().and_then(Option::as_ref)
     }
@@ -732,13 +724,7 @@ mod tests {
         let n: i64 = 12;
         let atoms = (1..=n).map(test_carbon).collect();
         let pos: Vec<DVec3> = (0..n)
-            .map(|_| {
-                DVec3::new(
-                    rng.range(-40.0, 40.0),
-                    rng.range(-6.0, 6.0),
-                    rng.range(-6.0, 6.0),
-                )
-            })
+            .map(|_| rng.in_box(DVec3::new(40.0, 6.0, 6.0)))
             .collect();
         let mol = Molecule::new("wide", atoms, &pos);
         let rule = ContactRule::default();
@@ -750,11 +736,7 @@ mod tests {
         assert_eq!(*mask, 63);
         let mut wrapped = false;
         for _ in 0..2000 {
-            let p = Vec3::new(
-                rng.range(-45.0, 45.0) as f32,
-                rng.range(-8.0, 8.0) as f32,
-                rng.range(-8.0, 8.0) as f32,
-            );
+            let p = rng.in_box(DVec3::new(45.0, 8.0, 8.0)).as_vec3();
             let r = rng.range(0.5, 30.0) as f32;
             let found = |c: &Collider| {
                 let mut v = Vec::new();

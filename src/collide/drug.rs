@@ -20,6 +20,9 @@ pub struct DrugAtoms {
     c_plain: Vec<f32>,
     /// `r_i − overlap − hbond` for polar atoms (equal to `c_plain` otherwise).
     c_polar: Vec<f32>,
+    /// Largest contact distance atom `i` can have with a receptor atom, less
+    /// that atom's radius (the larger of `c_plain` and `c_polar`).
+    own: Vec<f32>,
     /// Largest contact distance atom `i` can have with any receptor atom.
     pub reach: Vec<f32>,
     /// Largest `reach`.
@@ -64,6 +67,7 @@ impl DrugAtoms {
             polar,
             c_plain,
             c_polar,
+            own,
             reach,
             max_reach,
             extent,
@@ -84,7 +88,7 @@ impl DrugAtoms {
     /// less that atom's radius: `contact(i, r, polar) ≤ r + own(i)`.
     #[inline]
     pub fn own(&self, i: usize) -> f32 {
-        self.c_plain[i].max(self.c_polar[i])
+        self.own[i]
     }
 
     /// Contact distance of drug atom `i` with a receptor atom of radius `r`

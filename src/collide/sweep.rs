@@ -11,7 +11,7 @@
 //! position of radius `s_i·Δt/2`, so the collider's box query around that ball
 //! finds every receptor atom it could reach (nothing is skipped, however long
 //! the step); an atom whose ball the collider's clearance map proves empty
-//! ([`Collider::clear`]) has no candidates and skips the query. Intervals
+//! ([`super::clearance::Clearance::clear`]) has no candidates and skips the query. Intervals
 //! are taken in order and the first hit ends the search.
 //!
 //! For each candidate pair the first time its gap reaches the target is found
