@@ -303,6 +303,46 @@ fn a_1000_angstrom_step_never_passes_a_thin_wall() {
     }
 }
 
+/// Steps of 10⁸ Å (10⁸ intervals of 1 Å, were each one visited) through,
+/// past and along the wall: only the intervals near the wall are searched,
+/// and the drug still stops at it, or passes it untouched.
+#[test]
+fn a_1e8_angstrom_step_searches_only_near_the_wall() {
+    let rule = ContactRule::default();
+    let w = wall();
+    let mut rng = Rng(4);
+    let drug = random_molecule(&mut rng, 12, 5.0, DVec3::ZERO, true);
+    let opts = TouchOptions::default();
+    for kind in ColliderKind::ALL {
+        let c = Collider::build(&w, &rule, kind);
+        let d = DrugAtoms::new(&drug, &rule, c.max_radius());
+        // Straight through: it stops just short of the wall, half way.
+        let start = Pose::from_translation(DVec3::new(0.3, -0.2, -5e7));
+        let end = start.moved(DVec3::new(0.0, 0.0, 1e8), DVec3::X, 0.0);
+        let r = move_to_touch(&c, &d, &start, &end, &opts);
+        assert!(r.t < 0.5 && r.t > 0.4999999, "{kind:?}: t = {}", r.t);
+        assert!(r.pose.translation.z < 0.0 && r.pose.translation.z > -10.0);
+        assert!(min_gap_f64(&rule, &w, &drug, &r.pose) > 0.0);
+        assert!(!r.contacts.is_empty());
+        // Spinning about the direction of travel: a helix through the wall.
+        let spun = start.moved(DVec3::new(0.0, 0.0, 1e8), DVec3::Z, 2.5);
+        let r = move_to_touch(&c, &d, &start, &spun, &opts);
+        assert!(r.t < 0.5 && r.pose.translation.z < 0.0, "{kind:?}");
+        assert!(min_gap_f64(&rule, &w, &drug, &r.pose) > 0.0);
+        // Beside the wall, from far before it to far past it: free.
+        let beside = Pose::from_translation(DVec3::new(100.0, 0.0, -5e7));
+        let past = beside.moved(DVec3::new(0.0, 0.0, 1e8), DVec3::X, 0.0);
+        let r = move_to_touch(&c, &d, &beside, &past, &opts);
+        assert_eq!(r.t, 1.0, "{kind:?}");
+        assert!(r.contacts.is_empty() && r.start_colliding.is_empty());
+        // The long way to a pose in contact: its contacts are reported.
+        let r = move_to_touch(&c, &d, &start, &end, &opts);
+        let r = move_to_touch(&c, &d, &start, &r.pose, &opts);
+        assert!(!r.contacts.is_empty(), "{kind:?}");
+        assert!(min_gap_f64(&rule, &w, &drug, &r.pose) > 0.0);
+    }
+}
+
 #[test]
 fn stress_cases_never_overlap_nan_or_panic() {
     let rule = ContactRule::default();

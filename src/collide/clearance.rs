@@ -165,6 +165,25 @@ impl Clearance {
         let [nx, ny, _] = self.dims;
         let (row, slab) = (nx, nx * ny);
         let base = (iz as usize * ny + iy as usize) * nx + ix as usize;
+        let need = d + ROUNDING;
+        // The nearest corner first: one byte, and it alone proves most
+        // points away from the receptor (those the eight corners prove
+        // include all it proves, so the answer is the same).
+        let (ox, oy, oz) = (fx >= 0.5, fy >= 0.5, fz >= 0.5);
+        let nearest = base + usize::from(ox) + usize::from(oy) * nx + usize::from(oz) * nx * ny;
+        if let Some(&v) = self.values.get(nearest) {
+            let room = f32::from(v) * (1.0 / SCALE) - need;
+            let (ex, ey, ez) = (
+                fx - f32::from(u8::from(ox)),
+                fy - f32::from(u8::from(oy)),
+                fz - f32::from(u8::from(oz)),
+            );
+            if room > 0.0
+                && room * room > (ex * ex + ey * ey + ez * ez) * (self.spacing * self.spacing)
+            {
+                return true;
+            }
+        }
         // The corners' values, two x-neighbours at a time.
         let pair = |k: usize| match self.values.get(k..k + 2) {
             Some(&[a, b]) => [i32::from(a), i32::from(b)],
@@ -186,7 +205,7 @@ impl Clearance {
         // sides squared, the left side positive, so no square roots.
         let scale = f32x4::splat(1.0 / SCALE);
         let step2 = f32x4::splat(self.spacing * self.spacing);
-        let need = f32x4::splat(d + ROUNDING);
+        let need = f32x4::splat(need);
         let proves = |value: f32x4, d2: f32x4| {
             let room = value * scale - need;
             room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(d2 * step2)

@@ -647,11 +647,16 @@ fn hashed_rows(
         for y in y0..=y1 {
             let h0 = hash_cell(x0, y, z, mask) as usize;
             let h1 = h0 + width;
-            if h1 <= size {
-                f(y, z, start[h0] as usize, start[h1] as usize);
-            } else {
-                f(y, z, start[h0] as usize, start[size] as usize);
-                f(y, z, start[0] as usize, start[h1 - size] as usize);
+            // One call site (so `f` is inlined); the second run only when
+            // the row wraps.
+            let wraps = h1 > size;
+            for run in 0..=usize::from(wraps) {
+                let (a, b) = match (run, wraps) {
+                    (0, false) => (h0, h1),
+                    (0, true) => (h0, size),
+                    _ => (0, h1 - size),
+                };
+                f(y, z, start[a] as usize, start[b] as usize);
             }
         }
     }

@@ -55,6 +55,13 @@ pub const MIN_TOLERANCE: f64 = 1e-5;
 /// atoms "coincident" to 10⁻⁶ Å can be pulled apart in any direction.
 const OVERLAP_JITTER: f64 = 1e-5;
 
+/// Longest path, in Å, of any atom in one interval of the swept method. An
+/// interval's search ball grows with it, so shorter intervals let the
+/// clearance map skip more atoms and find fewer candidates, at a fixed cost
+/// per interval; and a touch ends the search at its interval. 1 Å was the
+/// best of 0.6–4.5 Å on the benchmarks' steps (`docs/benchmarks.md`).
+const INTERVAL_SWEEP: f64 = 1.0;
+
 /// Iterations of conservative advancement per pair before stopping (safely) short.
 const MAX_PAIR_ITERATIONS: usize = 100;
 
@@ -207,26 +214,46 @@ struct Candidate {
 }
 
 /// The candidates with `d ≤ c + extra` with the drug at `pose` (placed as
-/// the static check places it), sorted: the static rule applied to a
-/// candidate list. Only the candidates' drug atoms are placed.
-fn pairs_among(cands: &[Candidate], drug: &DrugAtoms, pose: &Pose, extra: f32) -> Vec<Pair> {
+/// the static check places it), sorted, and those of them with `d ≤ c`
+/// (colliding), sorted: the static rule applied to a candidate list. Only
+/// the candidates' drug atoms are placed, each once (a drug atom's
+/// candidates are consecutive).
+fn pairs_among(
+    cands: &[Candidate],
+    drug: &DrugAtoms,
+    pose: &Pose,
+    extra: f32,
+) -> (Vec<Pair>, Vec<Pair>) {
     let m = DMat3::from_quat(pose.rotation);
-    let mut out: Vec<Pair> = cands
-        .iter()
-        .filter_map(|k| {
-            let lim = k.contact + extra;
-            let x = drug.place(&m, pose.translation, k.drug as usize);
-            let d2 = (k.q - x).length_squared();
-            (lim >= 0.0 && d2 <= lim * lim).then(|| Pair {
+    let (mut within, mut colliding) = (Vec::new(), Vec::new());
+    let mut placed: Option<(u32, Vec3)> = None;
+    for k in cands {
+        let x = match placed {
+            Some((i, x)) if i == k.drug => x,
+            _ => {
+                let x = drug.place(&m, pose.translation, k.drug as usize);
+                placed = Some((k.drug, x));
+                x
+            }
+        };
+        let d2 = (k.q - x).length_squared();
+        let lim = k.contact + extra;
+        if lim >= 0.0 && d2 <= lim * lim {
+            let pair = Pair {
                 receptor: k.receptor,
                 drug: k.drug,
                 distance: d2.sqrt(),
                 contact: k.contact,
-            })
-        })
-        .collect();
-    sort_pairs(&mut out);
-    out
+            };
+            within.push(pair);
+            if k.contact >= 0.0 && d2 <= k.contact * k.contact {
+                colliding.push(pair);
+            }
+        }
+    }
+    sort_pairs(&mut within);
+    sort_pairs(&mut colliding);
+    (within, colliding)
 }
 
 /// Smallest positive root of `f + b·τ + a·τ²` (with `f ≥ 0`), or infinity.
@@ -396,8 +423,11 @@ fn swept_with(
         angle: screw.angle(),
         half_tol: 0.5 * tol,
     };
-    let cell = f64::from(collider.cell_size());
-    let dt = (cell / s_max).min(1.0);
+    // Equal intervals in which no atom moves more than `sweep` (a rounding
+    // error over a whole number of them does not add a sliver).
+    let sweep = f64::from(collider.cell_size()).min(INTERVAL_SWEEP);
+    let intervals = ((s_max / sweep) * (1.0 - 1e-9)).ceil().max(1.0);
+    let dt = 1.0 / intervals;
     let centre_speed = screw.speed(DVec3::ZERO);
     let (blo, bhi) = collider.bounds();
     let margin = f64::from(drug.max_reach) + tol;
@@ -405,6 +435,7 @@ fn swept_with(
         blo.as_dvec3() - DVec3::splat(margin),
         bhi.as_dvec3() + DVec3::splat(margin),
     );
+    let (first, past) = near_box(screw, blo, bhi, drug.extent, intervals);
 
     // End positions are needed only for pairs that overlap at an interval's
     // start (rare), so they are computed on demand.
@@ -414,10 +445,17 @@ fn swept_with(
     let clearance = collider.clearance();
     let mut start_colliding: Vec<Pair> = Vec::new();
     let mut t_hit = 1.0f64;
-    let mut ta = 0.0f64;
     let mut last_ta = 0.0f64;
-    while ta < t_hit {
-        let tb = (ta + dt).min(1.0);
+    let mut k = first;
+    cands.clear();
+    while k < past {
+        let ta = k * dt;
+        let tb = if k + 1.0 >= intervals {
+            1.0
+        } else {
+            (k + 1.0) * dt
+        };
+        k += 1.0;
         let half = 0.5 * (tb - ta);
         let tm = ta + half;
         let cm = screw.centre_at(tm);
@@ -464,7 +502,7 @@ fn swept_with(
                 });
             }
             if ta == 0.0 {
-                start_colliding = pairs_among(cands, drug, &start, 0.0);
+                start_colliding = pairs_among(cands, drug, &start, 0.0).1;
             }
             // A screw's second-order bound depends on how far ahead the
             // earliest touch found so far is, so a pair's computed touch
@@ -498,7 +536,12 @@ fn swept_with(
         if t_hit <= tb {
             break;
         }
-        ta = tb;
+        if k >= past && tb < 1.0 {
+            // The rest of the motion is clear of the receptor's box: no
+            // candidates near the end pose.
+            cands.clear();
+            last_ta = tb;
+        }
     }
 
     // Confirm with the static rule; back off if f32 rounding disagrees. Pairs
@@ -507,10 +550,15 @@ fn swept_with(
     let mut pose = screw.pose_at(t);
     let mut back = tol / s_max;
     let mut tries = 0;
+    // The contacts at the final pose, when its candidates gave them.
+    let mut contacts: Option<Vec<Pair>>;
     loop {
         let colliding = if t >= last_ta {
-            pairs_among(cands, drug, &pose, 0.0)
+            let (within, colliding) = pairs_among(cands, drug, &pose, tol32);
+            contacts = Some(within);
+            colliding
         } else {
+            contacts = None;
             check(collider, drug, &pose)
         };
         if t <= 0.0 || !violates(&colliding, &start_colliding) {
@@ -521,14 +569,39 @@ fn swept_with(
         back *= 2.0;
         pose = screw.pose_at(t);
     }
-    if t >= last_ta {
-        let contacts = pairs_among(cands, drug, &pose, tol32);
-        finish(t, pose, start_colliding, |_| contacts)
-    } else {
-        finish(t, pose, start_colliding, |p| {
+    match contacts {
+        Some(contacts) => finish(t, pose, start_colliding, |_| contacts),
+        None => finish(t, pose, start_colliding, |p| {
             pairs_within(collider, drug, p, tol32)
-        })
+        }),
     }
+}
+
+/// The intervals `first..past` (of `intervals` equal ones) during which the
+/// drug, every atom within `extent` of its centre, can be inside the box
+/// `lo..hi`: the centre's progress along the motion's direction (the
+/// translation, or a screw's axis) is linear in `t`, so the box's bounding
+/// ball gives the range at once. A long step past a small receptor then
+/// visits only the intervals near it.
+fn near_box(screw: &Screw, lo: DVec3, hi: DVec3, extent: f64, intervals: f64) -> (f64, f64) {
+    let c0 = screw.start().translation;
+    let w = if screw.is_translation() {
+        screw.end().translation - c0
+    } else {
+        screw.slide()
+    };
+    let len = w.length();
+    // Room for the rounding of the centre's path (centre_at).
+    let radius = 0.5 * (hi - lo).length() + extent + 1.0;
+    let a = (c0 - 0.5 * (lo + hi)).dot(w) / len.max(f64::MIN_POSITIVE);
+    if !(len > 0.0 && a.is_finite() && radius.is_finite()) {
+        return (0.0, intervals);
+    }
+    // Progress along w is a + len·t; it must lie within ±radius.
+    let (t_lo, t_hi) = ((-radius - a) / len, (radius - a) / len);
+    let first = (t_lo * intervals).floor().clamp(0.0, intervals);
+    let past = (t_hi * intervals).ceil().clamp(0.0, intervals);
+    (first, past)
 }
 
 /// The thesis's method: pairs colliding at the end pose, bisection on them.

@@ -24,6 +24,12 @@ use glam::{DQuat, DVec3};
 
 use super::Pose;
 
+/// Turns below this angle (radians) are taken as none: an atom 100 Å from
+/// the centre would move 10⁻¹¹ Å, far inside the smallest move-to-touch
+/// tolerance, while the rounding left by composing and normalising unit
+/// quaternions is about 10⁻¹⁵.
+pub const MIN_ANGLE: f64 = 1e-13;
+
 /// The screw motion from one pose to another.
 #[derive(Debug, Clone, Copy)]
 pub struct Screw {
@@ -51,8 +57,13 @@ impl Screw {
         }
         let v = DVec3::new(q.x, q.y, q.z);
         let s = v.length();
-        let (axis, angle) = if s > 0.0 && s.is_finite() {
-            (v / s, 2.0 * s.atan2(q.w))
+        let angle = 2.0 * s.atan2(q.w);
+        // A turn too small to move an atom measurably is a translation:
+        // a pure translation from a turned pose often leaves the relative
+        // rotation a rounding error away from the identity, and treating
+        // that as a screw would cost every query the screw's arithmetic.
+        let (axis, angle) = if angle > MIN_ANGLE && s.is_finite() {
+            (v / s, angle)
         } else {
             (DVec3::X, 0.0)
         };
@@ -240,6 +251,27 @@ mod tests {
                 assert!((p - (a + s.slide() * t)).length() < 1e-9, "{p} vs {a}");
             }
         }
+    }
+
+    /// Moving a turned pose without turning it leaves the relative rotation
+    /// a rounding error from the identity: that is a translation, whose end
+    /// is still exactly the end pose. A turn of 10⁻¹¹ rad is not.
+    #[test]
+    fn rounding_sized_turns_are_translations() {
+        let a = Pose::new(
+            DQuat::from_axis_angle(DVec3::new(0.3, -1.0, 0.7).normalize(), 2.1),
+            DVec3::new(4.0, 1.0, -3.0),
+        );
+        let mut b = a;
+        for k in 0..100 {
+            b = b.moved(DVec3::new(0.1, -0.2, 0.05 * f64::from(k)), DVec3::Y, 0.0);
+        }
+        let s = Screw::between(a, b);
+        assert!(s.is_translation(), "angle {}", s.angle());
+        assert_eq!(s.pose_at(1.0), b);
+        assert!((s.centre_at(1.0) - b.translation).length() < 1e-12);
+        let turned = Screw::between(a, a.moved(DVec3::X, DVec3::Z, 1e-11));
+        assert!(!turned.is_translation());
     }
 
     #[test]
