@@ -6,8 +6,9 @@
 //!
 //! # The swept method (default)
 //! Every atom moves along a helix at a constant speed `s_i`. The motion is cut
-//! into intervals short enough that no atom moves more than one grid cell in
-//! each; in an interval, atom `i` stays inside a ball around its mid-interval
+//! into intervals in which no atom moves more than 1 Å (up to a grid cell
+//! after an interval that found nothing), and only those during which the
+//! drug can be near the receptor's box are visited; in an interval, atom `i` stays inside a ball around its mid-interval
 //! position of radius `s_i·Δt/2`, so the collider's box query around that ball
 //! finds every receptor atom it could reach (nothing is skipped, however long
 //! the step); an atom whose ball the collider's clearance map proves empty
