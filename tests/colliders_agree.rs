@@ -10,17 +10,13 @@ use bump::collide::{
     pairs_within,
 };
 use bump::motion::Pose;
-use common::{Rng, random_molecule};
+use common::{Rng, all_colliders, random_molecule};
 use glam::{DQuat, DVec3};
 use proptest::prelude::*;
 
 /// Brute force (the reference), then the full grid and the hashed grid.
 fn colliders(receptor: &bump::model::Molecule) -> Vec<Collider> {
-    let rule = ContactRule::default();
-    ColliderKind::ALL
-        .iter()
-        .map(|k| Collider::build(receptor, &rule, *k))
-        .collect()
+    all_colliders(receptor, &ContactRule::default())
 }
 
 fn agree(receptor: &bump::model::Molecule, drug: &bump::model::Molecule, rel: &Pose, extra: f32) {

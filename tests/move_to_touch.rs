@@ -260,15 +260,18 @@ fn wall() -> Molecule {
     Molecule::new("wall", atoms, &pos)
 }
 
+/// The default rule, the wall and a random 12-atom drug (seeded).
+fn wall_and_drug(seed: u64) -> (ContactRule, Molecule, Molecule) {
+    let mut rng = Rng(seed);
+    let drug = random_molecule(&mut rng, 12, 5.0, DVec3::ZERO, true);
+    (ContactRule::default(), wall(), drug)
+}
+
 #[test]
 fn a_1000_angstrom_step_never_passes_a_thin_wall() {
-    let rule = ContactRule::default();
-    let w = wall();
-    let mut rng = Rng(3);
-    let drug = random_molecule(&mut rng, 12, 5.0, DVec3::ZERO, true);
-    for kind in ColliderKind::ALL {
-        let c = Collider::build(&w, &rule, kind);
-        let d = DrugAtoms::new(&drug, &rule, c.max_radius());
+    let (rule, w, drug) = wall_and_drug(3);
+    for c in all_colliders(&w, &rule) {
+        let (kind, d) = (c.kind(), DrugAtoms::new(&drug, &rule, c.max_radius()));
         let start = Pose::from_translation(DVec3::new(0.3, -0.2, -500.0));
         let end = start.moved(DVec3::new(0.0, 0.0, 1000.0), DVec3::X, 0.0);
         let r = move_to_touch(&c, &d, &start, &end, &TouchOptions::default());
@@ -308,14 +311,10 @@ fn a_1000_angstrom_step_never_passes_a_thin_wall() {
 /// and the drug still stops at it, or passes it untouched.
 #[test]
 fn a_1e8_angstrom_step_searches_only_near_the_wall() {
-    let rule = ContactRule::default();
-    let w = wall();
-    let mut rng = Rng(4);
-    let drug = random_molecule(&mut rng, 12, 5.0, DVec3::ZERO, true);
+    let (rule, w, drug) = wall_and_drug(4);
     let opts = TouchOptions::default();
-    for kind in ColliderKind::ALL {
-        let c = Collider::build(&w, &rule, kind);
-        let d = DrugAtoms::new(&drug, &rule, c.max_radius());
+    for c in all_colliders(&w, &rule) {
+        let (kind, d) = (c.kind(), DrugAtoms::new(&drug, &rule, c.max_radius()));
         // Straight through: it stops just short of the wall, half way.
         let start = Pose::from_translation(DVec3::new(0.3, -0.2, -5e7));
         let end = start.moved(DVec3::new(0.0, 0.0, 1e8), DVec3::X, 0.0);

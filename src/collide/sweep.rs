@@ -8,12 +8,13 @@
 //! Every atom moves along a helix at a constant speed `s_i`. The motion is cut
 //! into intervals in which no atom moves more than 1 Å (up to a grid cell
 //! after an interval that found nothing), and only those during which the
-//! drug can be near the receptor's box are visited; in an interval, atom `i` stays inside a ball around its mid-interval
-//! position of radius `s_i·Δt/2`, so the collider's box query around that ball
-//! finds every receptor atom it could reach (nothing is skipped, however long
-//! the step); an atom whose ball the collider's clearance map proves empty
-//! ([`super::clearance::Clearance::clear`]) has no candidates and skips the query. Intervals
-//! are taken in order and the first hit ends the search.
+//! drug can be near the receptor's box are visited. In an interval, atom `i`
+//! stays inside a ball around its mid-interval position of radius
+//! `s_i·Δt/2`, so the collider's box query around that ball finds every
+//! receptor atom it could reach (nothing is skipped, however long the step);
+//! an atom whose ball the collider's clearance map proves empty
+//! ([`super::clearance::Clearance::clear`]) has no candidates and skips the
+//! query. Intervals are taken in order and the first hit ends the search.
 //!
 //! For each candidate pair the first time its gap reaches the target is found
 //! by conservative advancement on `f(t) = |x(t) − q|² − c²`: from `t`, the
@@ -406,7 +407,7 @@ fn swept_with(
     let start = *screw.start();
     drug.rotated_into(&start, ys);
     speeds.clear();
-    let translation = screw.angle() == 0.0;
+    let translation = screw.is_translation();
     if translation {
         // A pure translation: every atom has the centre's speed (the same
         // value `Screw::speed` gives each, without a square root per atom).

@@ -95,11 +95,19 @@ pub fn max_speed(drug: &DrugAtoms, screw: &Screw) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Brute-force reference collider plus the other two for `receptor`.
+/// Brute-force reference collider plus the other two for `receptor`, each
+/// once its clearance map is built (a grid's map is built on its own
+/// thread), so the tests exercise the queries that skip atoms with it.
 pub fn all_colliders(receptor: &Molecule, rule: &ContactRule) -> Vec<Collider> {
-    bump::collide::ColliderKind::ALL
+    use bump::collide::ColliderKind;
+    ColliderKind::ALL
         .iter()
-        .map(|k| Collider::build(receptor, rule, *k))
+        .map(|k| {
+            let c = Collider::build(receptor, rule, *k);
+            let map = c.wait_for_clearance().is_some();
+            assert_eq!(map, *k != ColliderKind::Brute, "{k:?}: clearance map");
+            c
+        })
         .collect()
 }
 
