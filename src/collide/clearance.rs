@@ -42,6 +42,21 @@ pub const MAX_VERTICES: usize = 1 << 24;
 /// to the corners (receptor-frame coordinates, a few hundred Å at most).
 const ROUNDING: f32 = 1e-3;
 
+/// True when a threshold `d` is one the map can prove: positive (a corner
+/// stored as 0 may be inside an atom, and proves nothing, as it should not)
+/// and below the cap.
+#[inline(always)]
+fn usable(d: f32) -> bool {
+    d > 0.0 && d < CAP - ROUNDING
+}
+
+/// A point's lattice cell: its first vertex's index and the point's
+/// position in it, in lattice units (each in `[0, 1)`).
+struct Cell {
+    base: usize,
+    frac: [f32; 3],
+}
+
 /// A lattice of clearance values over a receptor (see the module docs).
 #[derive(Debug, Clone)]
 pub struct Clearance {
@@ -147,43 +162,79 @@ impl Clearance {
     /// false when it cannot (or for `d ≤ 0`, `d ≥ CAP`, or a NaN).
     #[inline(always)]
     pub fn clear(&self, x: Vec3, d: f32) -> bool {
-        // A corner stored as 0 may be inside an atom: with d > 0 it can
-        // never prove anything, as it should not.
-        if !(d > 0.0 && d < CAP - ROUNDING) {
+        if !usable(d) {
             return false;
         }
+        let Some(at) = self.locate(x) else {
+            // Outside the lattice (or NaN): the atoms are at least CAP away.
+            return x.is_finite();
+        };
+        // The nearest corner first: one byte, and it alone proves most
+        // points away from the receptor (those the eight corners prove
+        // include all it proves, so the answer is the same).
+        self.nearest_proves(&at, d) || self.corners_prove(&at, d)
+    }
+
+    /// The eight-corner test alone: what [`Clearance::clear`] answers for a
+    /// point whose nearest corner did not prove it (see
+    /// [`Clearance::clear_nearest4`]).
+    #[inline(always)]
+    pub fn clear_corners(&self, x: Vec3, d: f32) -> bool {
+        if !usable(d) {
+            return false;
+        }
+        match self.locate(x) {
+            Some(at) => self.corners_prove(&at, d),
+            None => x.is_finite(),
+        }
+    }
+
+    /// The lattice cell around `x`: its first vertex and `x`'s fractional
+    /// position in it; `None` outside the lattice or for NaN.
+    #[inline(always)]
+    fn locate(&self, x: Vec3) -> Option<Cell> {
         let u = (f32x4::from([x.x, x.y, x.z, 0.0]) - self.origin) * self.inv_spacing;
-        // Outside the lattice (or NaN): the atoms are at least CAP away.
         let inside = u.simd_ge(f32x4::ZERO) & u.simd_lt(self.last);
         if inside.to_bitmask() != 0b1111 {
-            return x.is_finite();
+            return None;
         }
         // In range and not negative: truncation is the floor.
         let cell = u.fast_trunc_int();
         let [fx, fy, fz, _] = (u - cell.round_float()).to_array();
         let [ix, iy, iz, _] = cell.to_array();
         let [nx, ny, _] = self.dims;
-        let (row, slab) = (nx, nx * ny);
-        let base = (iz as usize * ny + iy as usize) * nx + ix as usize;
-        let need = d + ROUNDING;
-        // The nearest corner first: one byte, and it alone proves most
-        // points away from the receptor (those the eight corners prove
-        // include all it proves, so the answer is the same).
+        Some(Cell {
+            base: (iz as usize * ny + iy as usize) * nx + ix as usize,
+            frac: [fx, fy, fz],
+        })
+    }
+
+    /// True when the corner of `at` nearest its point proves it clear by `d`.
+    #[inline(always)]
+    fn nearest_proves(&self, at: &Cell, d: f32) -> bool {
+        let [fx, fy, fz] = at.frac;
+        let [nx, ny, _] = self.dims;
         let (ox, oy, oz) = (fx >= 0.5, fy >= 0.5, fz >= 0.5);
-        let nearest = base + usize::from(ox) + usize::from(oy) * nx + usize::from(oz) * nx * ny;
-        if let Some(&v) = self.values.get(nearest) {
-            let room = f32::from(v) * (1.0 / SCALE) - need;
-            let (ex, ey, ez) = (
-                fx - f32::from(u8::from(ox)),
-                fy - f32::from(u8::from(oy)),
-                fz - f32::from(u8::from(oz)),
-            );
-            if room > 0.0
-                && room * room > (ex * ex + ey * ey + ez * ez) * (self.spacing * self.spacing)
-            {
-                return true;
-            }
-        }
+        let nearest = at.base + usize::from(ox) + usize::from(oy) * nx + usize::from(oz) * nx * ny;
+        let Some(&v) = self.values.get(nearest) else {
+            return false;
+        };
+        let room = f32::from(v) * (1.0 / SCALE) - (d + ROUNDING);
+        let (ex, ey, ez) = (
+            fx - f32::from(u8::from(ox)),
+            fy - f32::from(u8::from(oy)),
+            fz - f32::from(u8::from(oz)),
+        );
+        room > 0.0 && room * room > (ex * ex + ey * ey + ez * ez) * (self.spacing * self.spacing)
+    }
+
+    /// True when the best of the eight corners of `at` proves its point
+    /// clear by `d`.
+    #[inline(always)]
+    fn corners_prove(&self, at: &Cell, d: f32) -> bool {
+        let [fx, fy, fz] = at.frac;
+        let [nx, ny, _] = self.dims;
+        let (base, row, slab) = (at.base, nx, nx * ny);
         // The corners' values, two x-neighbours at a time.
         let pair = |k: usize| match self.values.get(k..k + 2) {
             Some(&[a, b]) => [i32::from(a), i32::from(b)],
@@ -205,12 +256,72 @@ impl Clearance {
         // sides squared, the left side positive, so no square roots.
         let scale = f32x4::splat(1.0 / SCALE);
         let step2 = f32x4::splat(self.spacing * self.spacing);
-        let need = f32x4::splat(need);
+        let need = f32x4::splat(d + ROUNDING);
         let proves = |value: f32x4, d2: f32x4| {
             let room = value * scale - need;
             room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(d2 * step2)
         };
         (proves(near, d2_near) | proves(far, d2_far)).any()
+    }
+
+    /// [`Clearance::clear`] for four points at once (`p`: their x, y and z
+    /// in lanes), by the nearest lattice corner alone: bit `k` of the result
+    /// is set when that corner proves point `k` clear by `d[k]`. A point it
+    /// leaves unproved may still be proved by [`Clearance::clear_corners`].
+    /// Lanes with `d ≤ 0` (padding) are never set.
+    #[inline(always)]
+    pub fn clear_nearest4(&self, p: [f32x4; 3], d: f32x4) -> u32 {
+        let [ox, oy, oz, _] = self.origin.to_array();
+        let [lx, ly, lz, _] = self.last.to_array();
+        // As `usable`, in lanes.
+        let usable = d.simd_gt(f32x4::ZERO) & d.simd_lt(f32x4::splat(CAP - ROUNDING));
+        let u = [
+            (p[0] - f32x4::splat(ox)) * self.inv_spacing,
+            (p[1] - f32x4::splat(oy)) * self.inv_spacing,
+            (p[2] - f32x4::splat(oz)) * self.inv_spacing,
+        ];
+        let inside = u[0].simd_ge(f32x4::ZERO)
+            & u[0].simd_lt(f32x4::splat(lx))
+            & u[1].simd_ge(f32x4::ZERO)
+            & u[1].simd_lt(f32x4::splat(ly))
+            & u[2].simd_ge(f32x4::ZERO)
+            & u[2].simd_lt(f32x4::splat(lz));
+        // Outside the lattice the atoms are at least CAP away; NaN and
+        // infinite points are neither inside nor finite.
+        let big = f32x4::splat(f32::MAX);
+        let finite = p[0].abs().simd_le(big) & p[1].abs().simd_le(big) & p[2].abs().simd_le(big);
+        let beyond = usable & finite & !inside;
+        // In range and not negative: truncation is the floor. The nearest
+        // corner's offset from the point, in lattice units, and its index
+        // (exact in f32: below MAX_VERTICES = 2^24).
+        let half = f32x4::splat(0.5);
+        let one = f32x4::ONE;
+        let near = |u: f32x4| {
+            let cell = u.fast_trunc_int().round_float();
+            let frac = u - cell;
+            let up = one & frac.simd_ge(half);
+            (cell + up, frac - up)
+        };
+        let (cx, ex) = near(u[0]);
+        let (cy, ey) = near(u[1]);
+        let (cz, ez) = near(u[2]);
+        let [nx, ny, _] = self.dims;
+        let index = (cz * f32x4::splat(ny as f32) + cy) * f32x4::splat(nx as f32) + cx;
+        let index = index.fast_trunc_int().to_array();
+        let ok = inside.to_bitmask();
+        let mut v = [0.0f32; 4];
+        for (k, v) in v.iter_mut().enumerate() {
+            if ok & (1 << k) != 0 {
+                // In range for inside lanes; a lane that is not stays 0.
+                *v = f32::from(self.values.get(index[k] as usize).copied().unwrap_or(0));
+            }
+        }
+        let room = f32x4::from(v) * f32x4::splat(1.0 / SCALE) - (d + f32x4::splat(ROUNDING));
+        let e2 = (ex * ex + ey * ey + ez * ez) * f32x4::splat(self.spacing * self.spacing);
+        // value − need > spacing · distance, both sides squared (the left
+        // positive), so no square roots.
+        let proved = usable & inside & room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(e2);
+        (proved | beyond).to_bitmask() & 0b1111
     }
 
     /// Bytes the map takes.
@@ -269,6 +380,56 @@ mod tests {
             }
         }
         assert!(said > 1000 && could > 1000, "said {said}, could {could}");
+    }
+
+    /// Four points at a time, by the nearest corner, then the eight
+    /// corners for the rest, answer exactly as [`Clearance::clear`] does one
+    /// at a time, for points inside, on the edge of and beyond the lattice,
+    /// NaN, and thresholds out of range; padding lanes are never set.
+    #[test]
+    fn four_lanes_answer_as_one_at_a_time() {
+        let mut rng = Rng(11);
+        let atoms: Vec<Vec4> = (0..200)
+            .map(|_| {
+                let q = rng.in_box(DVec3::splat(12.0)).as_vec3();
+                q.extend(rng.range(1.2, 2.0) as f32)
+            })
+            .collect();
+        let map = Clearance::build(&atoms).expect("atoms");
+        let (mut by_nearest, mut by_corners) = (0, 0);
+        for k in 0..20_000 {
+            let mut x = [Vec3::ZERO; 4];
+            let mut d = [0.0f32; 4];
+            for l in 0..4 {
+                x[l] = rng.in_box(DVec3::splat(22.0)).as_vec3();
+                d[l] = rng.range(-0.2, 3.2) as f32;
+            }
+            if k % 97 == 0 {
+                x[1] = Vec3::new(f32::NAN, 0.0, 0.0);
+                x[2] = Vec3::new(f32::INFINITY, 1.0, 1.0);
+                d[3] = f32::NAN;
+            }
+            let lanes = |f: fn(&Vec3) -> f32| f32x4::from(x.each_ref().map(f));
+            let count = 1 + k % 4;
+            let padded: [f32; 4] = std::array::from_fn(|l| if l < count { d[l] } else { 0.0 });
+            let bits = map.clear_nearest4(
+                [lanes(|v| v.x), lanes(|v| v.y), lanes(|v| v.z)],
+                f32x4::from(padded),
+            );
+            assert_eq!(bits >> count, 0, "padding lanes set: {bits:b}");
+            for l in 0..count {
+                let one = map.clear(x[l], d[l]);
+                let nearest = bits & (1 << l) != 0;
+                let four = nearest || map.clear_corners(x[l], d[l]);
+                assert_eq!(four, one, "{} d {}: nearest {nearest}", x[l], d[l]);
+                by_nearest += usize::from(nearest);
+                by_corners += usize::from(four && !nearest);
+            }
+        }
+        assert!(
+            by_nearest > 1000 && by_corners > 100,
+            "{by_nearest} {by_corners}"
+        );
     }
 
     /// Points on and beyond the lattice's edge, NaN and infinite points, and

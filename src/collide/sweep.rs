@@ -42,6 +42,7 @@
 
 use glam::{DMat3, DQuat, DVec3, Vec3};
 use serde::Serialize;
+use wide::f32x4;
 
 use super::check::{Pair, check, pairs_within, sort_pairs};
 use super::collider::{Collider, unpack_meta};
@@ -389,6 +390,40 @@ struct Scratch {
     ys: Vec<DVec3>,
     speeds: Vec<f64>,
     cands: Vec<Candidate>,
+    groups: Vec<Four>,
+}
+
+/// Four drug atoms for SIMD lanes: their offsets from the drug's centre at
+/// the start pose (x, y, z) and their `own` reach; a missing atom's lanes
+/// are 0 with an `own` of −∞, which the clearance map never proves.
+#[derive(Clone, Copy)]
+struct Four {
+    x: [f32; 4],
+    y: [f32; 4],
+    z: [f32; 4],
+    own: [f32; 4],
+}
+
+impl Four {
+    const EMPTY: Self = Self {
+        x: [0.0; 4],
+        y: [0.0; 4],
+        z: [0.0; 4],
+        own: [f32::NEG_INFINITY; 4],
+    };
+
+    /// `ys` (offsets) and their atoms' `own` reach, four at a time.
+    fn fill(groups: &mut Vec<Four>, ys: &[DVec3], drug: &DrugAtoms) {
+        groups.clear();
+        groups.resize(ys.len().div_ceil(4), Self::EMPTY);
+        for (g, (four, chunk)) in groups.iter_mut().zip(ys.chunks(4)).enumerate() {
+            for (l, y) in chunk.iter().enumerate() {
+                let y = y.as_vec3();
+                (four.x[l], four.y[l], four.z[l]) = (y.x, y.y, y.z);
+                four.own[l] = drug.own(4 * g + l);
+            }
+        }
+    }
 }
 
 thread_local! {
@@ -403,9 +438,15 @@ fn swept_with(
     screw: &Screw,
     tol: f64,
 ) -> TouchResult {
-    let Scratch { ys, speeds, cands } = scratch;
+    let Scratch {
+        ys,
+        speeds,
+        cands,
+        groups,
+    } = scratch;
     let start = *screw.start();
     drug.rotated_into(&start, ys);
+    Four::fill(groups, ys, drug);
     speeds.clear();
     let translation = screw.is_translation();
     if translation {
@@ -474,39 +515,72 @@ fn swept_with(
             || (cm - DVec3::splat(r_all)).cmpgt(bhi).any();
         if !outside {
             let rot_m = DMat3::from_quat(screw.rotation_at(tm));
-            for (i, y) in ys.iter().enumerate() {
-                // A pure translation's rotation is the identity: skip it.
-                let xm = if translation {
-                    *y + cm
+            // Four atoms at a time: placed, then tested against the map's
+            // nearest corners together; only those it leaves get the
+            // eight-corner test and, failing that, the search.
+            let cm32 = cm.as_vec3();
+            let shared_slack = (centre_speed * half + tol) as f32 + 1e-3;
+            for (g, four) in groups.iter().enumerate() {
+                let first_atom = 4 * g;
+                let count = (ys.len() - first_atom).min(4);
+                let mut slack = [shared_slack; 4];
+                let p = if translation {
+                    // Every atom has the centre's speed and no rotation.
+                    [
+                        f32x4::from(four.x) + f32x4::splat(cm32.x),
+                        f32x4::from(four.y) + f32x4::splat(cm32.y),
+                        f32x4::from(four.z) + f32x4::splat(cm32.z),
+                    ]
                 } else {
-                    rot_m * *y + cm
+                    let mut at = [[0.0f32; 4]; 3];
+                    for l in 0..count {
+                        let i = first_atom + l;
+                        let xm = (rot_m * ys[i] + cm).as_vec3();
+                        (at[0][l], at[1][l], at[2][l]) = (xm.x, xm.y, xm.z);
+                        // f32 slack well above the rounding of receptor-frame
+                        // coordinates, so the f32 tests below keep a superset.
+                        slack[l] = (speeds[i] * half + tol) as f32 + 1e-3;
+                    }
+                    at.map(f32x4::from)
                 };
-                let sweep = speeds[i] * half;
-                let xm32 = xm.as_vec3();
-                // f32 slack well above the rounding of receptor-frame
-                // coordinates, so the f32 tests below keep a superset.
-                let slack = (sweep + tol) as f32 + 1e-3;
                 // Nothing within reach over the whole interval: no search.
                 // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
-                if clearance.is_some_and(|map| map.clear(xm32, drug.own(i) + slack)) {
+                let d = f32x4::from(four.own) + f32x4::from(slack);
+                let proved = clearance.map_or(0, |map| map.clear_nearest4(p, d));
+                if proved.count_ones() as usize == count {
                     continue;
                 }
-                let far = drug.reach[i] + slack;
-                collider.near(xm32, far, |a, meta, d2| {
-                    let q = a.truncate();
-                    let (j, polar) = unpack_meta(meta);
-                    let contact = drug.contact(i, a.w, polar);
-                    // Out of reach over the whole interval: not a candidate.
-                    let reach = contact + slack;
-                    if d2 <= reach * reach {
-                        cands.push(Candidate {
-                            drug: i as u32,
-                            receptor: j,
-                            q,
-                            contact,
-                        });
+                let (px, py, pz, d) = (
+                    p[0].to_array(),
+                    p[1].to_array(),
+                    p[2].to_array(),
+                    d.to_array(),
+                );
+                for l in 0..count {
+                    let (i, xm32) = (first_atom + l, Vec3::new(px[l], py[l], pz[l]));
+                    if proved & (1 << l) != 0
+                        || clearance.is_some_and(|map| map.clear_corners(xm32, d[l]))
+                    {
+                        continue;
                     }
-                });
+                    let slack = slack[l];
+                    let far = drug.reach[i] + slack;
+                    collider.near(xm32, far, |a, meta, d2| {
+                        let q = a.truncate();
+                        let (j, polar) = unpack_meta(meta);
+                        let contact = drug.contact(i, a.w, polar);
+                        // Out of reach over the whole interval: not a candidate.
+                        let reach = contact + slack;
+                        if d2 <= reach * reach {
+                            cands.push(Candidate {
+                                drug: i as u32,
+                                receptor: j,
+                                q,
+                                contact,
+                            });
+                        }
+                    });
+                }
             }
             if ta == 0.0 {
                 start_colliding = pairs_among(cands, drug, &start, 0.0).1;
