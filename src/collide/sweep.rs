@@ -12,9 +12,11 @@
 //! stays inside a ball around its mid-interval position of radius
 //! `s_i·Δt/2`, so the collider's box query around that ball finds every
 //! receptor atom it could reach (nothing is skipped, however long the step);
-//! an atom whose ball the collider's clearance map proves empty
-//! ([`super::clearance::Clearance::clear`]) has no candidates and skips the
-//! query. Intervals are taken in order and the first hit ends the search.
+//! an atom whose ball the collider's clearance map proves empty has no
+//! candidates and skips the query (four atoms at a time by their nearest
+//! lattice corners, [`super::clearance::Clearance::clear_nearest4`], then
+//! the eight corners, [`super::clearance::Clearance::clear_corners`], for
+//! those left). Intervals are taken in order and the first hit ends the search.
 //!
 //! For each candidate pair the first time its gap reaches the target is found
 //! by conservative advancement on `f(t) = |x(t) − q|² − c²`: from `t`, the
