@@ -348,18 +348,23 @@ mod tests {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// `n` atoms of radius 1.2–2 Å, centres in the cube `±half`.
+    fn random_atoms(rng: &mut Rng, n: usize, half: f64) -> Vec<Vec4> {
+        (0..n)
+            .map(|_| {
+                let q = rng.in_box(DVec3::splat(half)).as_vec3();
+                q.extend(rng.range(1.2, 2.0) as f32)
+            })
+            .collect()
+    }
+
     /// Random atoms, random points and thresholds: whenever the map says
     /// clear, the exact clearance is larger; and it does say clear for most
     /// points well away from the atoms.
     #[test]
     fn clear_is_a_lower_bound_of_the_exact_clearance() {
         let mut rng = Rng(5);
-        let atoms: Vec<Vec4> = (0..300)
-            .map(|_| {
-                let q = rng.in_box(DVec3::splat(15.0)).as_vec3();
-                q.extend(rng.range(1.2, 2.0) as f32)
-            })
-            .collect();
+        let atoms = random_atoms(&mut rng, 300, 15.0);
         let map = Clearance::build(&atoms).expect("atoms");
         assert_eq!(map.spacing(), FINEST);
         let (mut said, mut could) = (0, 0);
@@ -389,12 +394,7 @@ mod tests {
     #[test]
     fn four_lanes_answer_as_one_at_a_time() {
         let mut rng = Rng(11);
-        let atoms: Vec<Vec4> = (0..200)
-            .map(|_| {
-                let q = rng.in_box(DVec3::splat(12.0)).as_vec3();
-                q.extend(rng.range(1.2, 2.0) as f32)
-            })
-            .collect();
+        let atoms = random_atoms(&mut rng, 200, 12.0);
         let map = Clearance::build(&atoms).expect("atoms");
         let (mut by_nearest, mut by_corners) = (0, 0);
         for k in 0..20_000 {
@@ -408,6 +408,17 @@ mod tests {
                 x[1] = Vec3::new(f32::NAN, 0.0, 0.0);
                 x[2] = Vec3::new(f32::INFINITY, 1.0, 1.0);
                 d[3] = f32::NAN;
+            }
+            if k % 89 == 0 {
+                // On the lattice's edges: its first vertex, and just inside
+                // and just past its last cell's far side.
+                let [ox, oy, oz, _] = map.origin.to_array();
+                let [lx, ly, lz, _] = map.last.to_array();
+                let far = Vec3::new(ox, oy, oz) + Vec3::new(lx, ly, lz) * map.spacing;
+                x[0] = Vec3::new(ox, oy, oz);
+                x[1] = far - Vec3::splat(1e-3);
+                x[2] = far + Vec3::splat(1e-3);
+                x[3] = Vec3::new(far.x - 1e-3, oy + 1.0, far.z + 1e-3);
             }
             let lanes = |f: fn(&Vec3) -> f32| f32x4::from(x.each_ref().map(f));
             let count = 1 + k % 4;

@@ -23,6 +23,9 @@ pub struct DrugAtoms {
     /// Largest contact distance atom `i` can have with a receptor atom, less
     /// that atom's radius (the larger of `c_plain` and `c_polar`).
     own: Vec<f32>,
+    /// `own` four atoms at a time (SIMD lanes), the last group padded with
+    /// −∞, which no clearance test proves.
+    own_fours: Vec<[f32; 4]>,
     /// Largest contact distance atom `i` can have with any receptor atom.
     pub reach: Vec<f32>,
     /// Largest `reach`.
@@ -54,6 +57,10 @@ impl DrugAtoms {
             .zip(&c_polar)
             .map(|(a, b)| a.max(*b))
             .collect();
+        let own_fours = own
+            .chunks(4)
+            .map(|c| std::array::from_fn(|l| c.get(l).copied().unwrap_or(f32::NEG_INFINITY)))
+            .collect();
         let reach: Vec<f32> = own.iter().map(|o| o + receptor_max_radius).collect();
         let max_reach = reach.iter().copied().fold(0.0, f32::max);
         let extent = drug
@@ -68,6 +75,7 @@ impl DrugAtoms {
             c_plain,
             c_polar,
             own,
+            own_fours,
             reach,
             max_reach,
             extent,
@@ -89,6 +97,12 @@ impl DrugAtoms {
     #[inline]
     pub fn own(&self, i: usize) -> f32 {
         self.own[i]
+    }
+
+    /// [`DrugAtoms::own`] of atoms `4g .. 4g + 4` (−∞ past the last atom).
+    #[inline]
+    pub fn own_four(&self, g: usize) -> [f32; 4] {
+        self.own_fours[g]
     }
 
     /// Contact distance of drug atom `i` with a receptor atom of radius `r`
@@ -136,5 +150,41 @@ impl DrugAtoms {
         }
         let m = DMat3::from_quat(rel.rotation);
         out.extend(self.local.iter().map(|p| m * p.as_dvec3()));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::AtomInfo;
+    use crate::model::molecule::test_carbon;
+
+    /// The lanes of `own_four` are `own` in order, padded with −∞ (which
+    /// the clearance map never proves) past the last atom; polar atoms
+    /// keep the larger of their two contact distances.
+    #[test]
+    fn own_fours_are_own_in_lanes() {
+        let rule = ContactRule::default();
+        for n in [1usize, 4, 5, 7] {
+            let atoms: Vec<AtomInfo> = (0..n)
+                .map(|k| {
+                    let mut a = test_carbon(k as i64 + 1);
+                    a.polar = k % 2 == 1;
+                    a.radius = 1.5 + 0.1 * k as f32;
+                    a
+                })
+                .collect();
+            let pos: Vec<DVec3> = (0..n).map(|k| DVec3::X * (2.0 * k as f64)).collect();
+            let drug = DrugAtoms::new(&Molecule::new("d", atoms, &pos), &rule, 1.8);
+            for i in 0..n.div_ceil(4) * 4 {
+                let lane = drug.own_four(i / 4)[i % 4];
+                if i < n {
+                    assert_eq!(lane, drug.own(i), "atom {i} of {n}");
+                    assert_eq!(lane, drug.radius[i] - rule.overlap);
+                } else {
+                    assert_eq!(lane, f32::NEG_INFINITY, "padding {i} of {n}");
+                }
+            }
+        }
     }
 }

@@ -392,40 +392,24 @@ struct Scratch {
     ys: Vec<DVec3>,
     speeds: Vec<f64>,
     cands: Vec<Candidate>,
-    groups: Vec<Four>,
+    offsets: Vec<Offsets4>,
 }
 
-/// Four drug atoms for SIMD lanes: their offsets from the drug's centre at
-/// the start pose (x, y, z) and their `own` reach; a missing atom's lanes
-/// are 0 with an `own` of −∞, which the clearance map never proves.
-#[derive(Clone, Copy)]
-struct Four {
-    x: [f32; 4],
-    y: [f32; 4],
-    z: [f32; 4],
-    own: [f32; 4],
-}
+/// The x, y and z of four drug atoms' offsets from the drug's centre at the
+/// start pose, in SIMD lanes (0 past the last atom).
+type Offsets4 = [[f32; 4]; 3];
 
-impl Four {
-    const EMPTY: Self = Self {
-        x: [0.0; 4],
-        y: [0.0; 4],
-        z: [0.0; 4],
-        own: [f32::NEG_INFINITY; 4],
-    };
-
-    /// `ys` (offsets) and their atoms' `own` reach, four at a time.
-    fn fill(groups: &mut Vec<Four>, ys: &[DVec3], drug: &DrugAtoms) {
-        groups.clear();
-        groups.resize(ys.len().div_ceil(4), Self::EMPTY);
-        for (g, (four, chunk)) in groups.iter_mut().zip(ys.chunks(4)).enumerate() {
-            for (l, y) in chunk.iter().enumerate() {
-                let y = y.as_vec3();
-                (four.x[l], four.y[l], four.z[l]) = (y.x, y.y, y.z);
-                four.own[l] = drug.own(4 * g + l);
-            }
+/// `ys` four at a time, as lanes.
+fn fill_offsets(out: &mut Vec<Offsets4>, ys: &[DVec3]) {
+    out.clear();
+    out.extend(ys.chunks(4).map(|chunk| {
+        let mut lanes = [[0.0f32; 4]; 3];
+        for (l, y) in chunk.iter().enumerate() {
+            let y = y.as_vec3();
+            (lanes[0][l], lanes[1][l], lanes[2][l]) = (y.x, y.y, y.z);
         }
-    }
+        lanes
+    }));
 }
 
 thread_local! {
@@ -444,11 +428,10 @@ fn swept_with(
         ys,
         speeds,
         cands,
-        groups,
+        offsets,
     } = scratch;
     let start = *screw.start();
     drug.rotated_into(&start, ys);
-    Four::fill(groups, ys, drug);
     speeds.clear();
     let translation = screw.is_translation();
     if translation {
@@ -501,6 +484,7 @@ fn swept_with(
     let mut k = first;
     let mut stride = 1.0;
     cands.clear();
+    let mut in_lanes = false;
     while k < past {
         let next = (k + stride).min(past);
         let ta = k * dt;
@@ -521,17 +505,26 @@ fn swept_with(
             // nearest corners together; only those it leaves get the
             // eight-corner test and, failing that, the search.
             let cm32 = cm.as_vec3();
+            if translation && !in_lanes {
+                in_lanes = true;
+                // Once per query, and only if the drug comes near the
+                // receptor: a translation places the atoms in lanes (a
+                // screw places each in f64).
+                fill_offsets(offsets, ys);
+            }
             let shared_slack = (centre_speed * half + tol) as f32 + 1e-3;
-            for (g, four) in groups.iter().enumerate() {
+            for g in 0..ys.len().div_ceil(4) {
                 let first_atom = 4 * g;
                 let count = (ys.len() - first_atom).min(4);
                 let mut slack = [shared_slack; 4];
                 let p = if translation {
                     // Every atom has the centre's speed and no rotation.
+                    // Filled above for every group of a translation.
+                    let [x, y, z] = offsets.get(g).copied().unwrap_or_default();
                     [
-                        f32x4::from(four.x) + f32x4::splat(cm32.x),
-                        f32x4::from(four.y) + f32x4::splat(cm32.y),
-                        f32x4::from(four.z) + f32x4::splat(cm32.z),
+                        f32x4::from(x) + f32x4::splat(cm32.x),
+                        f32x4::from(y) + f32x4::splat(cm32.y),
+                        f32x4::from(z) + f32x4::splat(cm32.z),
                     ]
                 } else {
                     let mut at = [[0.0f32; 4]; 3];
@@ -547,7 +540,7 @@ fn swept_with(
                 };
                 // Nothing within reach over the whole interval: no search.
                 // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
-                let d = f32x4::from(four.own) + f32x4::from(slack);
+                let d = f32x4::from(drug.own_four(g)) + f32x4::from(slack);
                 let proved = clearance.map_or(0, |map| map.clear_nearest4(p, d));
                 if proved.count_ones() as usize == count {
                     continue;
