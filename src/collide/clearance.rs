@@ -74,6 +74,24 @@ pub struct Clearance {
     /// `floor(SCALE · min(f(v), CAP))` per vertex, x fastest; 0 also
     /// stands for any negative clearance (a vertex inside an atom).
     values: Vec<u8>,
+    /// The same lattice constants, each in every lane, for
+    /// [`Clearance::clear_nearest4`] (splatting them per call cost about a
+    /// third of its instructions).
+    lanes: Lanes,
+}
+
+/// A lattice's constants splatted across SIMD lanes.
+#[derive(Debug, Clone, Copy)]
+struct Lanes {
+    /// Vertex (0, 0, 0): x, y and z.
+    origin: [f32x4; 3],
+    /// The number of vertices less one along x, y and z.
+    last: [f32x4; 3],
+    /// Vertices along x and along y (a vertex index is `(z·ny + y)·nx + x`).
+    nx: f32x4,
+    ny: f32x4,
+    /// The spacing squared.
+    step2: f32x4,
 }
 
 impl Clearance {
@@ -147,13 +165,21 @@ impl Clearance {
             // Clamped first, so truncation is the floor.
             .map(|&v| ((v - ROUNDING) * SCALE).clamp(0.0, 255.0) as u8)
             .collect();
+        let last = [nx, ny, nz].map(|n| (n - 1) as f32);
         Some(Self {
             origin: f32x4::from([origin.x, origin.y, origin.z, 0.0]),
             inv_spacing: f32x4::splat(inv_spacing),
-            last: f32x4::from([(nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32, 1.0]),
+            last: f32x4::from([last[0], last[1], last[2], 1.0]),
             spacing,
             dims,
             values,
+            lanes: Lanes {
+                origin: [origin.x, origin.y, origin.z].map(f32x4::splat),
+                last: last.map(f32x4::splat),
+                nx: f32x4::splat(nx as f32),
+                ny: f32x4::splat(ny as f32),
+                step2: f32x4::splat(spacing * spacing),
+            },
         })
     }
 
@@ -271,21 +297,26 @@ impl Clearance {
     /// Lanes with `d ≤ 0` (padding) are never set.
     #[inline(always)]
     pub fn clear_nearest4(&self, p: [f32x4; 3], d: f32x4) -> u32 {
-        let [ox, oy, oz, _] = self.origin.to_array();
-        let [lx, ly, lz, _] = self.last.to_array();
+        let Lanes {
+            origin,
+            last,
+            nx,
+            ny,
+            step2,
+        } = self.lanes;
         // As `usable`, in lanes.
         let usable = d.simd_gt(f32x4::ZERO) & d.simd_lt(f32x4::splat(CAP - ROUNDING));
         let u = [
-            (p[0] - f32x4::splat(ox)) * self.inv_spacing,
-            (p[1] - f32x4::splat(oy)) * self.inv_spacing,
-            (p[2] - f32x4::splat(oz)) * self.inv_spacing,
+            (p[0] - origin[0]) * self.inv_spacing,
+            (p[1] - origin[1]) * self.inv_spacing,
+            (p[2] - origin[2]) * self.inv_spacing,
         ];
         let inside = u[0].simd_ge(f32x4::ZERO)
-            & u[0].simd_lt(f32x4::splat(lx))
+            & u[0].simd_lt(last[0])
             & u[1].simd_ge(f32x4::ZERO)
-            & u[1].simd_lt(f32x4::splat(ly))
+            & u[1].simd_lt(last[1])
             & u[2].simd_ge(f32x4::ZERO)
-            & u[2].simd_lt(f32x4::splat(lz));
+            & u[2].simd_lt(last[2]);
         // Outside the lattice the atoms are at least CAP away; NaN and
         // infinite points are neither inside nor finite.
         let big = f32x4::splat(f32::MAX);
@@ -305,9 +336,7 @@ impl Clearance {
         let (cx, ex) = near(u[0]);
         let (cy, ey) = near(u[1]);
         let (cz, ez) = near(u[2]);
-        let [nx, ny, _] = self.dims;
-        let index = (cz * f32x4::splat(ny as f32) + cy) * f32x4::splat(nx as f32) + cx;
-        let index = index.fast_trunc_int().to_array();
+        let index = ((cz * ny + cy) * nx + cx).fast_trunc_int().to_array();
         let ok = inside.to_bitmask();
         let mut v = [0.0f32; 4];
         for (k, v) in v.iter_mut().enumerate() {
@@ -317,7 +346,7 @@ impl Clearance {
             }
         }
         let room = f32x4::from(v) * f32x4::splat(1.0 / SCALE) - (d + f32x4::splat(ROUNDING));
-        let e2 = (ex * ex + ey * ey + ez * ez) * f32x4::splat(self.spacing * self.spacing);
+        let e2 = (ex * ex + ey * ey + ez * ez) * step2;
         // value − need > spacing · distance, both sides squared (the left
         // positive), so no square roots.
         let proved = usable & inside & room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(e2);

@@ -1,11 +1,15 @@
 //! A drug prepared for queries against one receptor collider: its atoms'
 //! local positions, radii and the per-atom parts of the contact distance.
 
-use glam::{DMat3, DQuat, DVec3, Vec3};
+use glam::{DMat3, DQuat, DVec3, Mat3, Vec3};
+use wide::f32x4;
 
 use super::rule::ContactRule;
 use crate::model::Molecule;
 use crate::motion::Pose;
+
+/// x, y and z of four points, each in SIMD lanes.
+pub type Lanes3 = [f32x4; 3];
 
 /// Drug atoms with their contact-rule constants precomputed.
 #[derive(Debug, Clone)]
@@ -26,6 +30,9 @@ pub struct DrugAtoms {
     /// `own` four atoms at a time (SIMD lanes), the last group padded with
     /// −∞, which no clearance test proves.
     own_fours: Vec<[f32; 4]>,
+    /// `local` four atoms at a time: x, y and z in SIMD lanes, the last
+    /// group padded with the origin.
+    local_fours: Vec<Lanes3>,
     /// Largest contact distance atom `i` can have with any receptor atom.
     pub reach: Vec<f32>,
     /// Largest `reach`.
@@ -61,6 +68,18 @@ impl DrugAtoms {
             .chunks(4)
             .map(|c| std::array::from_fn(|l| c.get(l).copied().unwrap_or(f32::NEG_INFINITY)))
             .collect();
+        let local_fours = drug
+            .local
+            .chunks(4)
+            .map(|c| {
+                let lane = |axis: usize| {
+                    f32x4::from(std::array::from_fn::<f32, 4, _>(|l| {
+                        c.get(l).map_or(0.0, |p| p[axis])
+                    }))
+                };
+                [lane(0), lane(1), lane(2)]
+            })
+            .collect();
         let reach: Vec<f32> = own.iter().map(|o| o + receptor_max_radius).collect();
         let max_reach = reach.iter().copied().fold(0.0, f32::max);
         let extent = drug
@@ -76,6 +95,7 @@ impl DrugAtoms {
             c_polar,
             own,
             own_fours,
+            local_fours,
             reach,
             max_reach,
             extent,
@@ -132,6 +152,26 @@ impl DrugAtoms {
         (*m * self.local[i].as_dvec3() + t).as_vec3()
     }
 
+    /// Atom offsets from the centre, four atoms at a time in SIMD lanes
+    /// (x, y, z; the last group padded with zeros).
+    pub fn local_fours(&self) -> &[Lanes3] {
+        &self.local_fours
+    }
+
+    /// [`DrugAtoms::local_fours`] rotated by `rotation`, in f32: within a
+    /// few f32 roundings of [`DrugAtoms::rotated`]'s values rounded to f32.
+    pub fn rotated_fours_into(&self, rotation: DQuat, out: &mut Vec<Lanes3>) {
+        let m: Mat3 = DMat3::from_quat(rotation).as_mat3();
+        let col = |c: Vec3| [c.x, c.y, c.z].map(f32x4::splat);
+        let (cx, cy, cz) = (col(m.x_axis), col(m.y_axis), col(m.z_axis));
+        out.clear();
+        out.extend(
+            self.local_fours
+                .iter()
+                .map(|&[x, y, z]| std::array::from_fn(|k| cx[k] * x + cy[k] * y + cz[k] * z)),
+        );
+    }
+
     /// Atom offsets from the centre, rotated by `rotation` (f64).
     pub fn rotated(&self, rel: &Pose) -> Vec<DVec3> {
         let mut out = Vec::with_capacity(self.len());
@@ -158,6 +198,46 @@ mod tests {
     use super::*;
     use crate::model::AtomInfo;
     use crate::model::molecule::test_carbon;
+
+    /// `local_fours` holds `local` in lanes (padded with the origin), and
+    /// `rotated_fours_into` rotates them to within a few f32 roundings of
+    /// `rotated`'s f64 values.
+    #[test]
+    fn offsets_in_lanes_are_the_offsets() {
+        let mut rng = crate::rng::Rng(11);
+        for n in [1usize, 4, 6, 9] {
+            let atoms: Vec<AtomInfo> = (0..n).map(|k| test_carbon(k as i64 + 1)).collect();
+            let pos: Vec<DVec3> = (0..n).map(|_| rng.in_box(DVec3::splat(8.0))).collect();
+            let drug = DrugAtoms::new(
+                &Molecule::new("d", atoms, &pos),
+                &ContactRule::default(),
+                1.8,
+            );
+            let lane = |g: &Lanes3, i: usize| {
+                let [x, y, z] = g.map(|v| v.to_array()[i % 4]);
+                Vec3::new(x, y, z)
+            };
+            let groups = drug.local_fours();
+            assert_eq!(groups.len(), n.div_ceil(4));
+            for i in 0..groups.len() * 4 {
+                let want = drug.local.get(i).copied().unwrap_or(Vec3::ZERO);
+                assert_eq!(lane(&groups[i / 4], i), want, "atom {i} of {n}");
+            }
+            let mut out = Vec::new();
+            for _ in 0..20 {
+                let axis = rng.in_box(DVec3::ONE).normalize_or(DVec3::Z);
+                let pose = Pose::new(
+                    DQuat::from_axis_angle(axis, rng.range(-3.0, 3.0)),
+                    DVec3::ZERO,
+                );
+                drug.rotated_fours_into(pose.rotation, &mut out);
+                for (i, y) in drug.rotated(&pose).iter().enumerate() {
+                    let got = lane(&out[i / 4], i).as_dvec3();
+                    assert!((got - *y).length() < 1e-5, "atom {i}: {got} vs {y}");
+                }
+            }
+        }
+    }
 
     /// The lanes of `own_four` are `own` in order, padded with −∞ (which
     /// the clearance map never proves) past the last atom; polar atoms

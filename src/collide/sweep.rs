@@ -48,7 +48,7 @@ use wide::f32x4;
 
 use super::check::{Pair, check, pairs_within, sort_pairs};
 use super::collider::{Collider, unpack_meta};
-use super::drug::DrugAtoms;
+use super::drug::{DrugAtoms, Lanes3};
 use crate::motion::{Pose, Screw};
 
 /// Smallest tolerance accepted, in Å: below it f32 coordinates cannot tell
@@ -392,24 +392,7 @@ struct Scratch {
     ys: Vec<DVec3>,
     speeds: Vec<f64>,
     cands: Vec<Candidate>,
-    offsets: Vec<Offsets4>,
-}
-
-/// The x, y and z of four drug atoms' offsets from the drug's centre at the
-/// start pose, in SIMD lanes (0 past the last atom).
-type Offsets4 = [[f32; 4]; 3];
-
-/// `ys` four at a time, as lanes.
-fn fill_offsets(out: &mut Vec<Offsets4>, ys: &[DVec3]) {
-    out.clear();
-    out.extend(ys.chunks(4).map(|chunk| {
-        let mut lanes = [[0.0f32; 4]; 3];
-        for (l, y) in chunk.iter().enumerate() {
-            let y = y.as_vec3();
-            (lanes[0][l], lanes[1][l], lanes[2][l]) = (y.x, y.y, y.z);
-        }
-        lanes
-    }));
+    offsets: Vec<Lanes3>,
 }
 
 thread_local! {
@@ -431,17 +414,22 @@ fn swept_with(
         offsets,
     } = scratch;
     let start = *screw.start();
-    drug.rotated_into(&start, ys);
+    let n = drug.len();
     speeds.clear();
     let translation = screw.is_translation();
-    if translation {
+    let s_max = if translation {
         // A pure translation: every atom has the centre's speed (the same
-        // value `Screw::speed` gives each, without a square root per atom).
-        speeds.resize(ys.len(), screw.speed(DVec3::ZERO));
+        // value `Screw::speed` gives each, without a square root per atom),
+        // and only atoms with candidates need their offset in f64 (`y_of`).
+        ys.clear();
+        let v = screw.speed(DVec3::ZERO);
+        speeds.resize(n, v);
+        if n == 0 { 0.0 } else { v }
     } else {
+        drug.rotated_into(&start, ys);
         speeds.extend(ys.iter().map(|y| screw.speed(*y)));
-    }
-    let s_max = speeds.iter().copied().fold(0.0, f64::max);
+        speeds.iter().copied().fold(0.0, f64::max)
+    };
     let tol32 = tol as f32;
     if s_max.is_nan() || s_max <= 0.0 || collider.is_empty() || drug.is_empty() {
         let colliding = check(collider, drug, &start);
@@ -471,11 +459,33 @@ fn swept_with(
         bhi.as_dvec3() + DVec3::splat(margin),
     );
     let (first, past) = near_box(screw, blo, bhi, drug.extent, intervals);
+    // A translation places the atoms four at a time from their offsets at
+    // the start, in lanes (a screw places each in f64): the drug's own for
+    // an unturned drug, else rotated once per query, and only if the drug
+    // comes near the receptor.
+    let offsets: &[Lanes3] = if !translation || first >= past {
+        &[]
+    } else if start.rotation == DQuat::IDENTITY {
+        drug.local_fours()
+    } else {
+        drug.rotated_fours_into(start.rotation, offsets);
+        offsets
+    };
 
     // End positions are needed only for pairs that overlap at an interval's
     // start (rare), so they are computed on demand.
     let end_rot = DMat3::from_quat(screw.end().rotation);
     let x_end = |i: usize| end_rot * drug.local[i].as_dvec3() + screw.end().translation;
+    // Atom `i`'s offset from the centre at the start: the value
+    // `DrugAtoms::rotated_into` gives it.
+    let start_rot = (start.rotation != DQuat::IDENTITY).then(|| DMat3::from_quat(start.rotation));
+    let y_of = |ys: &[DVec3], i: usize| match ys.get(i) {
+        Some(y) => *y,
+        None => {
+            let y = drug.local[i].as_dvec3();
+            start_rot.map_or(y, |m| m * y)
+        }
+    };
     // Looked up once: the map may still be building on its own thread.
     let clearance = collider.clearance();
     let mut start_colliding: Vec<Pair> = Vec::new();
@@ -484,7 +494,6 @@ fn swept_with(
     let mut k = first;
     let mut stride = 1.0;
     cands.clear();
-    let mut in_lanes = false;
     while k < past {
         let next = (k + stride).min(past);
         let ta = k * dt;
@@ -505,26 +514,18 @@ fn swept_with(
             // nearest corners together; only those it leaves get the
             // eight-corner test and, failing that, the search.
             let cm32 = cm.as_vec3();
-            if translation && !in_lanes {
-                in_lanes = true;
-                // Once per query, and only if the drug comes near the
-                // receptor: a translation places the atoms in lanes (a
-                // screw places each in f64).
-                fill_offsets(offsets, ys);
-            }
             let shared_slack = (centre_speed * half + tol) as f32 + 1e-3;
-            for g in 0..ys.len().div_ceil(4) {
+            for g in 0..n.div_ceil(4) {
                 let first_atom = 4 * g;
-                let count = (ys.len() - first_atom).min(4);
+                let count = (n - first_atom).min(4);
                 let mut slack = [shared_slack; 4];
                 let p = if translation {
                     // Every atom has the centre's speed and no rotation.
-                    // Filled above for every group of a translation.
                     let [x, y, z] = offsets.get(g).copied().unwrap_or_default();
                     [
-                        f32x4::from(x) + f32x4::splat(cm32.x),
-                        f32x4::from(y) + f32x4::splat(cm32.y),
-                        f32x4::from(z) + f32x4::splat(cm32.z),
+                        x + f32x4::splat(cm32.x),
+                        y + f32x4::splat(cm32.y),
+                        z + f32x4::splat(cm32.z),
                     ]
                 } else {
                     let mut at = [[0.0f32; 4]; 3];
@@ -594,13 +595,14 @@ fn swept_with(
                 let i = k.drug as usize;
                 let limit = t_hit.min(tb);
                 let q = k.q.as_dvec3();
+                let y = y_of(ys, i);
                 if let Some(th) = mover.first_touch(
-                    ys[i],
+                    y,
                     speeds[i],
                     q,
                     f64::from(k.contact),
                     ta,
-                    rot_a * ys[i] + cen_a,
+                    rot_a * y + cen_a,
                     || x_end(i),
                     limit,
                 ) && th < t_hit

@@ -57,7 +57,14 @@ impl Screw {
         }
         let v = DVec3::new(q.x, q.y, q.z);
         let s = v.length();
-        let angle = 2.0 * s.atan2(q.w);
+        // The angle is 2·atan2(s, w) ≈ 2s for small s: below 0.4·MIN_ANGLE
+        // it is under MIN_ANGLE, and the arc tangent can be skipped (the
+        // usual case: a step that does not turn the drug).
+        let angle = if s > 0.4 * MIN_ANGLE {
+            2.0 * s.atan2(q.w)
+        } else {
+            0.0
+        };
         // A turn too small to move an atom measurably is a translation:
         // a pure translation from a turned pose often leaves the relative
         // rotation a rounding error away from the identity, and treating
@@ -272,6 +279,44 @@ mod tests {
         assert!((s.centre_at(1.0) - b.translation).length() < 1e-12);
         let turned = Screw::between(a, a.moved(DVec3::X, DVec3::Z, 1e-11));
         assert!(!turned.is_translation());
+    }
+
+    /// Skipping the arc tangent for tiny turns changes no answer: around
+    /// `MIN_ANGLE`, from a turned start, a motion is a translation exactly
+    /// when the angle the arc tangent gives is not above it.
+    #[test]
+    fn tiny_turns_are_classified_as_the_arc_tangent_says() {
+        let a = Pose::new(
+            DQuat::from_axis_angle(DVec3::new(-0.4, 0.2, 1.0).normalize(), 1.3),
+            DVec3::new(-2.0, 5.0, 1.0),
+        );
+        let axis = DVec3::new(0.6, 0.8, 0.0);
+        let (mut screws, mut translations) = (0, 0);
+        for k in 0..=400 {
+            let theta = MIN_ANGLE * (0.2 + 0.01 * f64::from(k));
+            let b = Pose::new(
+                (DQuat::from_axis_angle(axis, theta) * a.rotation).normalize(),
+                a.translation + DVec3::new(0.5, 0.0, -0.25),
+            );
+            let mut q = (b.rotation * a.rotation.conjugate()).normalize();
+            if q.w < 0.0 {
+                q = -q;
+            }
+            let angle = 2.0 * DVec3::new(q.x, q.y, q.z).length().atan2(q.w);
+            let s = Screw::between(a, b);
+            assert_eq!(
+                s.is_translation(),
+                angle <= MIN_ANGLE,
+                "θ {theta}, angle {angle}"
+            );
+            if s.is_translation() {
+                translations += 1;
+            } else {
+                screws += 1;
+            }
+        }
+        // Both sides of the threshold were taken.
+        assert!(screws > 100 && translations > 50, "{screws} {translations}");
     }
 
     #[test]
