@@ -647,16 +647,16 @@ fn hashed_rows(
         for y in y0..=y1 {
             let h0 = hash_cell(x0, y, z, mask) as usize;
             let h1 = h0 + width;
-            // One call site (so `f` is inlined); the second run only when
-            // the row wraps.
-            let wraps = h1 > size;
-            for run in 0..=usize::from(wraps) {
-                let (a, b) = match (run, wraps) {
-                    (0, false) => (h0, h1),
-                    (0, true) => (h0, size),
-                    _ => (0, h1 - size),
-                };
+            // One call site (so `f` is inlined): the buckets up to the
+            // table's end, then, only when the row wraps, those from its
+            // start.
+            let (mut a, mut b) = (h0, h1.min(size));
+            loop {
                 f(y, z, start[a] as usize, start[b] as usize);
+                if b == h1 || a == 0 {
+                    break;
+                }
+                (a, b) = (0, h1 - size);
             }
         }
     }
