@@ -75,8 +75,8 @@ pub struct Clearance {
     /// stands for any negative clearance (a vertex inside an atom).
     values: Vec<u8>,
     /// The same lattice constants, each in every lane, for
-    /// [`Clearance::clear_nearest4`] (splatting them per call cost about a
-    /// third of its instructions).
+    /// [`Clearance::clear_nearest4`] (splatting them per call took about a
+    /// fifth of its instructions: 180 a call, 142 without).
     lanes: Lanes,
 }
 
