@@ -419,12 +419,15 @@ fn swept_with(
     let translation = screw.is_translation();
     let s_max = if translation {
         // A pure translation: every atom has the centre's speed (the same
-        // value `Screw::speed` gives each, without a square root per atom),
-        // and only atoms with candidates need their offset in f64 (`y_of`).
+        // value `Screw::speed` gives each, without a square root per atom;
+        // `speed_of`), and only atoms with candidates need their offset in
+        // f64 (`y_of`).
         ys.clear();
-        let v = screw.speed(DVec3::ZERO);
-        speeds.resize(n, v);
-        if n == 0 { 0.0 } else { v }
+        if n == 0 {
+            0.0
+        } else {
+            screw.speed(DVec3::ZERO)
+        }
     } else {
         drug.rotated_into(&start, ys);
         speeds.extend(ys.iter().map(|y| screw.speed(*y)));
@@ -473,12 +476,16 @@ fn swept_with(
     };
 
     // End positions are needed only for pairs that overlap at an interval's
-    // start (rare), so they are computed on demand.
-    let end_rot = DMat3::from_quat(screw.end().rotation);
-    let x_end = |i: usize| end_rot * drug.local[i].as_dvec3() + screw.end().translation;
+    // start (rare), so they (and their rotation matrix) are computed on
+    // demand.
+    let x_end = |i: usize| {
+        DMat3::from_quat(screw.end().rotation) * drug.local[i].as_dvec3() + screw.end().translation
+    };
     // Atom `i`'s offset from the centre at the start: the value
-    // `DrugAtoms::rotated_into` gives it.
-    let start_rot = (start.rotation != DQuat::IDENTITY).then(|| DMat3::from_quat(start.rotation));
+    // `DrugAtoms::rotated_into` gives it (a screw has them all in `ys`).
+    let start_rot = (translation && start.rotation != DQuat::IDENTITY)
+        .then(|| DMat3::from_quat(start.rotation));
+    let speed_of = |speeds: &[f64], i: usize| speeds.get(i).copied().unwrap_or(centre_speed);
     let y_of = |ys: &[DVec3], i: usize| match ys.get(i) {
         Some(y) => *y,
         None => {
@@ -515,6 +522,7 @@ fn swept_with(
             // eight-corner test and, failing that, the search.
             let cm32 = cm.as_vec3();
             let shared_slack = (centre_speed * half + tol) as f32 + 1e-3;
+            debug_assert!(!translation || offsets.len() == n.div_ceil(4));
             for g in 0..n.div_ceil(4) {
                 let first_atom = 4 * g;
                 let count = (n - first_atom).min(4);
@@ -598,7 +606,7 @@ fn swept_with(
                 let y = y_of(ys, i);
                 if let Some(th) = mover.first_touch(
                     y,
-                    speeds[i],
+                    speed_of(speeds, i),
                     q,
                     f64::from(k.contact),
                     ta,
