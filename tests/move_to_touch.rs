@@ -328,6 +328,25 @@ fn a_1e8_angstrom_step_searches_only_near_the_wall() {
         let r = move_to_touch(&c, &d, &start, &spun, &opts);
         assert!(r.t < 0.5 && r.pose.translation.z < 0.0, "{kind:?}");
         assert!(min_gap_f64(&rule, &w, &drug, &r.pose) > 0.0);
+        // Turning 2.5 rad about y: an arc about an axis 5·10⁷ Å away, which
+        // bulges 3.6·10⁷ Å to the side of the straight path and misses the
+        // wall (10⁸ intervals, were each one visited).
+        let arc = start.moved(DVec3::new(0.0, 0.0, 1e8), DVec3::Y, 2.5);
+        let r = move_to_touch(&c, &d, &start, &arc, &opts);
+        assert_eq!(r.t, 1.0, "{kind:?}");
+        assert!(r.contacts.is_empty() && r.start_colliding.is_empty());
+        // The same arc moved sideways so that its middle runs into the
+        // wall's centre (where it travels along z): it stops just short.
+        let mid = Screw::between(start, arc).centre_at(0.5) - DVec3::new(0.3, -0.2, 0.0);
+        let (start_m, arc_m) = (
+            start.moved(-mid, DVec3::X, 0.0),
+            arc.moved(-mid, DVec3::X, 0.0),
+        );
+        let r = move_to_touch(&c, &d, &start_m, &arc_m, &opts);
+        assert!(r.t < 0.5 && r.t > 0.49999, "{kind:?}: t = {}", r.t);
+        assert!(r.pose.translation.z < 0.0 && r.pose.translation.z > -10.0);
+        assert!(min_gap_f64(&rule, &w, &drug, &r.pose) > 0.0);
+        assert!(!r.contacts.is_empty(), "{kind:?}");
         // Beside the wall, from far before it to far past it: free.
         let beside = Pose::from_translation(DVec3::new(100.0, 0.0, -5e7));
         let past = beside.moved(DVec3::new(0.0, 0.0, 1e8), DVec3::X, 0.0);

@@ -321,6 +321,51 @@ fn moves_beyond_the_supported_range_are_refused() {
     assert_ne!(here, before);
 }
 
+/// Steps as long as two molecules in range can be apart (2·10⁹ Å) stop at
+/// the receptor; longer ones, where a step's length in Å is no longer an
+/// exact count in f64 (and at 10¹⁵⁵ Å its square overflows), are refused
+/// at the start: they neither tunnel nor hang.
+#[test]
+fn steps_beyond_the_relative_range_are_refused_not_tunnelled() {
+    use bump::collide::sweep::MAX_RELATIVE_COORDINATE;
+    let rule = ContactRule::default();
+    let r = Molecule::new("r", vec![atom(1, "C", 1.7)], &[DVec3::ZERO]);
+    let m = Molecule::new("d", vec![atom(1, "C", 1.7)], &[DVec3::X * 5.0]);
+    for kind in ColliderKind::ALL {
+        let c = Collider::build(&r, &rule, kind);
+        let d = DrugAtoms::new(&m, &rule, c.max_radius());
+        let opts = TouchOptions::default();
+        for (x0, turn) in [(5.0, 0.0), (5.0, 0.5), (-1.9e9, 0.0), (-1.9e9, 0.5)] {
+            let start = Pose::from_translation(DVec3::new(x0, 0.0, 0.0));
+            // Through the receptor atom to the far end of the range.
+            // A turn about the path (a helix): an arc would miss the atom.
+            let end = Pose::from_translation(DVec3::new(-x0.signum() * 1.9e9, 0.0, 0.0)).moved(
+                DVec3::ZERO,
+                DVec3::X,
+                turn,
+            );
+            let res = move_to_touch(&c, &d, &start, &end, &opts);
+            let x = res.pose.translation;
+            assert!(
+                res.t > 0.0 && res.t < 1.0,
+                "{kind:?} {x0} {turn}: t = {}",
+                res.t
+            );
+            assert!(
+                x.length() > 2.8 && x.x.signum() == x0.signum(),
+                "{kind:?}: {x}"
+            );
+            assert!(!res.contacts.is_empty(), "{kind:?} {x0} {turn}");
+            // Beyond the range: refused, whatever the rest of the step.
+            for far in [2.0 * MAX_RELATIVE_COORDINATE, 1e155, 1e308, f64::MAX] {
+                let end = start.moved(DVec3::new(-far, 0.0, 0.0), DVec3::Z, turn);
+                let res = move_to_touch(&c, &d, &start, &end, &opts);
+                assert_eq!((res.t, res.pose), (0.0, start), "{kind:?} {far:e}");
+            }
+        }
+    }
+}
+
 #[test]
 fn a_million_small_turns_keep_the_drug_rigid() {
     let mut s = builtin_session(DVec3::ZERO);

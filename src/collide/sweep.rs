@@ -49,7 +49,7 @@ use wide::f32x4;
 use super::check::{Pair, check, pairs_within, sort_pairs};
 use super::collider::{Collider, unpack_meta};
 use super::drug::{DrugAtoms, Lanes3};
-use crate::motion::{Pose, Screw};
+use crate::motion::{MAX_COORDINATE, Pose, Screw};
 
 /// Smallest tolerance accepted, in Å: below it f32 coordinates cannot tell
 /// touching from colliding.
@@ -145,11 +145,23 @@ impl TouchResult {
     }
 }
 
+/// Farthest a drug's pose may lie from its receptor, per axis, in Å: two
+/// molecules within [`MAX_COORDINATE`] of the origin. Beyond it a step's
+/// length in Å (its count of intervals) outgrows the integers an `f64`
+/// holds exactly and its squared speed overflows.
+pub const MAX_RELATIVE_COORDINATE: f64 = 2.0 * MAX_COORDINATE;
+
+/// True when `pose` is finite and within [`MAX_RELATIVE_COORDINATE`].
+fn in_reach(pose: &Pose) -> bool {
+    pose.is_finite() && pose.translation.abs().max_element() <= MAX_RELATIVE_COORDINATE
+}
+
 /// Moves the drug from `start` towards `end` (both relative to the receptor)
 /// and stops it at first touch. See the module documentation.
 ///
 /// # Panics
-/// Never; non-finite poses give `t = 0` at the start pose.
+/// Never; a pose that is not finite, or lies beyond
+/// [`MAX_RELATIVE_COORDINATE`], gives `t = 0` at the start pose.
 pub fn move_to_touch(
     collider: &Collider,
     drug: &DrugAtoms,
@@ -162,7 +174,7 @@ pub fn move_to_touch(
     } else {
         MIN_TOLERANCE
     };
-    if !start.is_finite() || !end.is_finite() {
+    if !in_reach(start) || !in_reach(end) {
         return finish(0.0, *start, check(collider, drug, start), |p| {
             pairs_within(collider, drug, p, tol as f32)
         });
@@ -515,7 +527,21 @@ fn swept_with(
         let r_all = drug.extent + centre_speed * half;
         let outside = (cm + DVec3::splat(r_all)).cmplt(blo).any()
             || (cm - DVec3::splat(r_all)).cmpgt(bhi).any();
-        if !outside {
+        if outside {
+            // The centre moves at `centre_speed`, so the drug cannot reach
+            // the box before its centre has covered the gap: skip to the
+            // interval where it could. `near_box` does this in advance for
+            // translations; a screw about a distant axis (a long arc) needs
+            // it here, or it would walk every interval of its arc.
+            let gap = (blo - cm).max(cm - bhi).max(DVec3::ZERO).length() - drug.extent - 1.0;
+            if gap > 0.0 {
+                let enter = tm + gap / centre_speed;
+                let skip_to = (enter * intervals).floor();
+                if skip_to > k {
+                    k = skip_to.min(past);
+                }
+            }
+        } else {
             let rot_m = DMat3::from_quat(screw.rotation_at(tm));
             // Four atoms at a time: placed, then tested against the map's
             // nearest corners together; only those it leaves get the
