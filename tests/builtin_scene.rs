@@ -99,18 +99,39 @@ fn slide_carries_on_along_a_flat_wall() {
     let probe = bump::model::Molecule::new("probe", vec![e.atoms[0].clone()], &[DVec3::ZERO]);
     let s = Scene::new(wall, probe, ContactRule::default(), ColliderKind::Grid);
     let start = bump::motion::Pose::from_translation(DVec3::new(-6.0, 0.3, -6.0));
-    let end = start.moved(DVec3::new(10.0, 0.0, 8.0), DVec3::Z, 0.0);
-    let opts = TouchOptions::default();
-    let touch = s.respond(&start, &end, Response::Touch, &opts);
-    let slide = s.respond(&start, &end, Response::Slide, &opts);
-    assert!(touch.t < 1.0);
-    assert!(slide.legs > 1);
-    assert!(s.check(&slide.pose).is_empty());
-    assert!(slide.pose.translation.z < 0.0, "slid through the wall");
-    assert!(
-        slide.pose.translation.x > touch.pose.translation.x + 2.0,
-        "slide {} vs touch {}",
-        slide.pose.translation.x,
-        touch.pose.translation.x
-    );
+    // With a turn too (radians): the push still slides.
+    for turn in [0.0, 1e-7, 0.2] {
+        let end = start.moved(DVec3::new(10.0, 0.0, 8.0), DVec3::Z, turn);
+        let opts = TouchOptions::default();
+        let touch = s.respond(&start, &end, Response::Touch, &opts);
+        let slide = s.respond(&start, &end, Response::Slide, &opts);
+        assert!(touch.t < 1.0);
+        assert!(slide.legs > 1);
+        assert!(s.check(&slide.pose).is_empty());
+        assert!(slide.pose.translation.z < 0.0, "slid through the wall");
+        assert!(
+            slide.pose.translation.x > touch.pose.translation.x + 2.0,
+            "turn {turn}: slide {} vs touch {}",
+            slide.pose.translation.x,
+            touch.pose.translation.x
+        );
+    }
+}
+
+/// The E pushed into the rings off-centre, with a small turn (which once
+/// left every slide leg stuck at the touch pose): it slides on past it.
+#[test]
+fn a_turning_push_slides_past_the_rings() {
+    let s = scene(RadiiSet::Bondi, ColliderKind::Grid);
+    let start = s.file_relative(DVec3::new(0.0, 2.5, 0.0));
+    for degrees in [0.0f64, 0.001, 1.0] {
+        let end = start.moved(DVec3::new(0.0, 0.0, 25.0), DVec3::Z, degrees.to_radians());
+        let opts = TouchOptions::default();
+        let touch = s.respond(&start, &end, Response::Touch, &opts);
+        let slide = s.respond(&start, &end, Response::Slide, &opts);
+        assert!(touch.t < 1.0, "{degrees}°");
+        assert!(s.check(&slide.pose).is_empty());
+        let (zt, zs) = (touch.pose.translation.z, slide.pose.translation.z);
+        assert!(zs > zt + 2.0, "{degrees}°: slide z {zs} vs touch z {zt}");
+    }
 }

@@ -196,14 +196,25 @@ fn slide(
             })
             .collect();
         let u = project_onto_cone([v.x, v.y, v.z, w.x * l, w.y * l, w.z * l], &rows);
-        let v = DVec3::new(u[0], u[1], u[2]);
-        let w = DVec3::new(u[3], u[4], u[5]) / l;
+        let mut v = DVec3::new(u[0], u[1], u[2]);
+        let mut w = DVec3::new(u[3], u[4], u[5]) / l;
+        // A screw turns at most half a turn: a longer one would be taken
+        // the other way round, so shorten the whole twist.
+        let most = 0.99 * std::f64::consts::PI;
+        if w.length() > most {
+            let k = most / w.length();
+            (v, w) = (v * k, w * k);
+        }
         let travel = v.length() + w.length() * drug.extent;
         if travel < opts.tolerance.max(1e-9) {
             break;
         }
+        // The screw that starts with exactly this twist: the constraints
+        // above hold for its first instant, so the touching pairs slide
+        // (a screw that only ended at `moved(v, ω)` would start along
+        // another direction and run straight back into them).
         from = r.pose;
-        to = from.moved(v, w, w.length());
+        to = from.twisted(v, w);
         r = move_to_touch(collider, drug, &from, &to, opts);
         legs += 1;
     }

@@ -93,6 +93,35 @@ impl Pose {
         }
     }
 
+    /// The pose reached from this one after unit time under the constant
+    /// twist with angular velocity `w` (rad) and velocity `v` (Å) at the
+    /// centre. [`super::Screw::between`] this pose and the result moves
+    /// with exactly that twist (for `|w| < π`), so every atom starts along
+    /// `v + w × (x − centre)`; [`Pose::moved`] by the same `v` and `w` would
+    /// move the centre along the chord `v` of its arc, which starts in
+    /// another direction.
+    pub fn twisted(&self, v: DVec3, w: DVec3) -> Self {
+        let theta = w.length();
+        // The centre moves by J·v, J the left Jacobian of the rotations:
+        // I + (1 − cos θ)/θ² [w]× + (θ − sin θ)/θ³ [w]×², whose
+        // coefficients lose their digits to cancellation at small θ (where
+        // their series are exact to rounding).
+        let (a, b) = if theta < 1e-2 {
+            let t2 = theta * theta;
+            (
+                0.5 - t2 / 24.0 + t2 * t2 / 720.0,
+                1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0,
+            )
+        } else {
+            (
+                (1.0 - theta.cos()) / (theta * theta),
+                (theta - theta.sin()) / (theta * theta * theta),
+            )
+        };
+        let wv = w.cross(v);
+        self.moved(v + wv * a + w.cross(wv) * b, w, theta)
+    }
+
     /// True when every component is finite.
     pub fn is_finite(&self) -> bool {
         self.rotation.is_finite() && self.translation.is_finite()

@@ -199,6 +199,27 @@ impl Screw {
 mod tests {
     use super::*;
 
+    #[test]
+    fn a_twisted_pose_is_reached_by_the_screw_of_that_twist() {
+        let from = Pose::new(
+            DQuat::from_axis_angle(DVec3::new(0.2, 1.0, -0.4).normalize(), 0.4),
+            DVec3::new(3.0, -1e4, 2.0),
+        );
+        for (v, w) in [
+            (DVec3::new(1.0, 2.0, 3.0), DVec3::ZERO),
+            (DVec3::new(1.0, 2.0, 3.0), DVec3::new(0.0, 0.0, 1e-9)),
+            (DVec3::new(-2.0, 0.5, 1.0), DVec3::new(1e-3, -2e-3, 5e-3)),
+            (DVec3::new(-2.0, 0.5, 1.0), DVec3::new(0.3, 0.1, -0.2)),
+            (DVec3::new(0.0, 7.0, 0.0), DVec3::new(2.0, 0.5, -1.5)),
+        ] {
+            let screw = Screw::between(from, from.twisted(v, w));
+            let v0 = screw.velocity_at(from.translation);
+            let w0 = screw.axis() * screw.angle();
+            assert!((v0 - v).length() < 1e-9, "{v} {w}: starts along {v0}");
+            assert!((w0 - w).length() < 1e-12, "{v} {w}: turns {w0}");
+        }
+    }
+
     fn sample_screws() -> Vec<Screw> {
         let a = Pose::new(
             DQuat::from_axis_angle(DVec3::new(0.2, 1.0, -0.4).normalize(), 0.4),
