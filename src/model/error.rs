@@ -7,13 +7,14 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum LoadError {
     /// The file could not be opened or read.
-    #[error("{path}: cannot read: {source}")]
+    // The I/O error is part of the message, not a `source`: reporters that
+    // print the chain of causes would print it twice.
+    #[error("{path}: cannot read: {error}")]
     Io {
         /// The file.
         path: String,
         /// The I/O error.
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The extension names no format bump reads.
     #[error(

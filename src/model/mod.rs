@@ -96,6 +96,13 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
     Ok(loaded)
 }
 
+/// Largest coordinate magnitude, in Å, accepted from a file. Atoms are
+/// kept in f32 relative to their molecule's centre, so one absurd outlier
+/// (a typo, an overflow in the program that wrote the file) would move the
+/// centre far away and take the precision of every other atom with it.
+/// Real structures lie within a few thousand Å of their origin.
+pub const MAX_FILE_COORDINATE: f64 = 1e6;
+
 /// Residue names treated as water.
 pub const WATER_NAMES: &[&str] = &["HOH", "WAT", "H2O", "DOD", "TIP", "TIP3", "SOL", "D2O"];
 

@@ -49,7 +49,9 @@ use glam::DVec3;
 use pdbtbx::{Atom, Context, Format, PDBError, ReadOptions, StrictnessLevel};
 
 use super::element::{self, UNKNOWN_RADIUS};
-use super::{AtomInfo, Hydrogens, LoadError, LoadOptions, Loaded, RadiiSet, Structure};
+use super::{
+    AtomInfo, Hydrogens, LoadError, LoadOptions, Loaded, MAX_FILE_COORDINATE, RadiiSet, Structure,
+};
 
 /// At most this many parser warnings are reported one by one; the rest are counted.
 const MAX_PARSER_WARNINGS: usize = 20;
@@ -82,9 +84,9 @@ pub fn load_pdbtbx(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError>
 /// magic bytes (concatenated gzip members are read to the end).
 pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>, LoadError> {
     let label = path.display().to_string();
-    let raw = std::fs::read(path).map_err(|source| LoadError::Io {
+    let raw = std::fs::read(path).map_err(|error| LoadError::Io {
         path: label.clone(),
-        source,
+        error,
     })?;
     if raw.starts_with(&[0x1f, 0x8b]) {
         let mut out = Vec::with_capacity(raw.len() * 4);
@@ -183,7 +185,7 @@ fn parse_text(
 ) -> Result<Loaded, LoadError> {
     let normalised;
     let input = if matches!(format, Format::Pdb) {
-        normalised = normalise_pdb(text);
+        normalised = normalise_pdb(text, label)?;
         normalised.as_str()
     } else if let Some(atoms_only) = mmcif_atom_site_only(text) {
         normalised = atoms_only;
@@ -197,9 +199,7 @@ fn parse_text(
         .set_level(StrictnessLevel::Loose)
         .set_only_first_model(true)
         .set_only_atomic_coords(true);
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        read_options.read_raw(BufReader::new(input.as_bytes()))
-    }));
+    let result = quietly(|| read_options.read_raw(BufReader::new(input.as_bytes())));
     let (pdb, parser_warnings) = match result {
         Ok(Ok(ok)) => ok,
         Ok(Err(errors)) => {
@@ -279,7 +279,19 @@ fn parse_text(
                 hetero: atom.hetero(),
             });
             let (x, y, z) = atom.pos();
-            positions.push(DVec3::new(x, y, z));
+            let p = DVec3::new(x, y, z);
+            if !p.is_finite() || p.abs().max_element() > MAX_FILE_COORDINATE {
+                return Err(LoadError::Parse {
+                    path: label.to_string(),
+                    line: None,
+                    reason: format!(
+                        "atom {} ({}) is at ({x}, {y}, {z}), not within ±{MAX_FILE_COORDINATE:e} Å",
+                        atom.serial_number(),
+                        atom.name()
+                    ),
+                });
+            }
+            positions.push(p);
         }
     }
     if atoms.is_empty() {
@@ -296,6 +308,31 @@ fn parse_text(
         },
         warnings,
     })
+}
+
+thread_local! {
+    /// Set while this thread runs `pdbtbx`, whose panics are caught and
+    /// reported as parse errors, so the panic hook prints nothing for them.
+    static QUIET_PANICS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Runs `f`, catching a panic without the panic hook's message on stderr
+/// (the caller reports it as an error). The hook installed once here defers
+/// to the previous one on every other thread, and on this one outside `f`.
+fn quietly<R>(f: impl FnOnce() -> R) -> std::thread::Result<R> {
+    static HOOK: std::sync::Once = std::sync::Once::new();
+    HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET_PANICS.with(std::cell::Cell::get) {
+                previous(info);
+            }
+        }));
+    });
+    QUIET_PANICS.with(|q| q.set(true));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    QUIET_PANICS.with(|q| q.set(false));
+    result
 }
 
 /// One atom with the hierarchy it came from.
@@ -498,23 +535,132 @@ fn mmcif_atom_site_only(text: &str) -> Option<String> {
 
 /// Normalises the `ATOM`/`HETATM` lines of PDB text (see the module docs);
 /// other lines pass unchanged. Line count and order are kept.
-fn normalise_pdb(text: &str) -> String {
+///
+/// # Errors
+/// [`LoadError::Parse`], naming the line, for a coordinate that reads as a
+/// number but is not finite or lies beyond [`MAX_FILE_COORDINATE`], and for
+/// a residue number that a chain gives to two different residues.
+fn normalise_pdb(text: &str, label: &str) -> Result<String, LoadError> {
     let mut out = String::with_capacity(text.len() + text.len() / 8);
-    for line in text.lines() {
+    let mut chains = ChainNames::default();
+    for (index, line) in text.lines().enumerate() {
+        let at = |reason: String| LoadError::Parse {
+            path: label.to_string(),
+            line: Some(index + 1),
+            reason,
+        };
         if line.starts_with("ATOM  ") || line.starts_with("HETATM") {
-            normalise_atom_line(line, &mut out);
+            check_coordinates(line).map_err(at)?;
+            let chain = chains.chain_of(line, index + 1).map_err(at)?;
+            normalise_atom_line(line, chain, &mut out);
         } else {
+            chains.other_record(line);
             out.push_str(line);
         }
         out.push('\n');
     }
-    out
+    Ok(out)
+}
+
+/// Refuses a coordinate that reads as a number but is not finite or lies
+/// beyond [`MAX_FILE_COORDINATE`] (`pdbtbx` would panic on the first, and
+/// keep the second). Fields that do not read as numbers are left for
+/// `pdbtbx` to report.
+fn check_coordinates(line: &str) -> Result<(), String> {
+    for (axis, range) in [("x", 30..38), ("y", 38..46), ("z", 46..54)] {
+        let Some(v) = line.get(range).and_then(|f| f.trim().parse::<f64>().ok()) else {
+            continue;
+        };
+        if !v.is_finite() {
+            return Err(format!("{axis} coordinate is not finite: {v}"));
+        }
+        if v.abs() > MAX_FILE_COORDINATE {
+            return Err(format!(
+                "{axis} coordinate {v} is beyond ±{MAX_FILE_COORDINATE:e} Å"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Names for blank chain identifiers, as `pdbtbx` gives them (`A`, then the
+/// next letter after each `TER`), except that a residue number coming back
+/// with another residue name also starts a new chain. Files written by
+/// simulation programs (chain blank, segments in columns 73–76) number their
+/// waters from 1 again, and `pdbtbx` would otherwise merge water 7 into
+/// residue 7 of the protein, under the protein residue's name. A chain that
+/// is named in the file and numbers two residues alike is refused instead.
+#[derive(Default)]
+struct ChainNames {
+    /// Letters given to blank chains so far, past the first (`A`).
+    advanced: u8,
+    /// Residue (chain, number, insertion code) of the previous atom line.
+    previous: Option<[u8; 6]>,
+    /// Residue name and first line of each residue seen in this chain run.
+    seen: HashMap<[u8; 6], ([u8; 3], usize)>,
+    /// Past the first model: only the first is read, so nothing is checked.
+    done: bool,
+}
+
+impl ChainNames {
+    /// Notes a record that is not an atom: `TER` starts a new blank chain,
+    /// `ENDMDL` ends the first model.
+    fn other_record(&mut self, line: &str) {
+        if line.starts_with("TER") {
+            self.next_blank_chain();
+            self.previous = None;
+        } else if line.starts_with("ENDMDL") {
+            self.done = true;
+        }
+    }
+
+    /// Blank chains from here on get the next letter: their residue
+    /// numbers start afresh (a named chain's do not, in `pdbtbx` either).
+    fn next_blank_chain(&mut self) {
+        self.advanced = self.advanced.wrapping_add(1);
+        self.seen.retain(|key, _| key[0] != b' ');
+    }
+
+    /// The chain identifier to write into this atom line (column 22).
+    fn chain_of(&mut self, line: &str, number: usize) -> Result<u8, String> {
+        let b = line.as_bytes();
+        let given = b.get(21).copied().unwrap_or(b' ');
+        if self.done || b.len() < 27 {
+            return Ok(given);
+        }
+        let key: [u8; 6] = std::array::from_fn(|k| b[21 + k]);
+        let name: [u8; 3] = std::array::from_fn(|k| b[17 + k]);
+        let new_residue = self.previous != Some(key);
+        self.previous = Some(key);
+        if new_residue
+            && let Some((other, first)) = self.seen.get(&key).copied()
+            && other != name
+        {
+            if given != b' ' {
+                let text = |v: &[u8]| String::from_utf8_lossy(v).trim().to_string();
+                return Err(format!(
+                    "residue {} {} {} reuses the number of residue {} on line {first}; residues of one chain need their own numbers (or insertion codes)",
+                    text(&name),
+                    given as char,
+                    text(&key[1..]),
+                    text(&other),
+                ));
+            }
+            self.next_blank_chain();
+        }
+        self.seen.entry(key).or_insert((name, number));
+        Ok(if given == b' ' {
+            b'A' + self.advanced % 26
+        } else {
+            given
+        })
+    }
 }
 
 /// Pads an atom line to 80 columns and fills blank occupancy, B-factor and
 /// element fields. Lines too short to hold coordinates are left for `pdbtbx`
 /// to reject.
-fn normalise_atom_line(line: &str, out: &mut String) {
+fn normalise_atom_line(line: &str, chain: u8, out: &mut String) {
     if line.len() < 54 || !line.is_ascii() {
         out.push_str(line);
         return;
@@ -522,6 +668,9 @@ fn normalise_atom_line(line: &str, out: &mut String) {
     let mut b: Vec<u8> = line.as_bytes().to_vec();
     if b.len() < 80 {
         b.resize(80, b' ');
+    }
+    if chain.is_ascii_graphic() {
+        b[21] = chain;
     }
     let blank = |b: &[u8], r: std::ops::Range<usize>| b[r].iter().all(|c| *c == b' ');
     if blank(&b, 54..60) {
@@ -748,6 +897,14 @@ HETATM    4  O   HOH     3      31.000  20.000  39.000  1.00  0.00
         assert!(l.structure.atoms.iter().all(|a| a.radius != UNKNOWN_RADIUS));
         let heavy = load("5dfr_solvated.pdb", Hydrogens::Drop).unwrap();
         assert!(heavy.structure.atoms.iter().all(|a| a.element != "H"));
+        // Its 7023 waters are numbered from 1 again in the same blank
+        // chain: they must stay waters (7023 of them), and the receptor is
+        // DHFR's 159 residues (1268 heavy atoms), not those plus 159 of
+        // the waters under protein names.
+        let waters = heavy.structure.atoms.iter().filter(|a| a.residue == "HOH");
+        assert_eq!(waters.count(), 7023);
+        let receptor = crate::model::receptor_only(&heavy.structure).unwrap();
+        assert_eq!(receptor.len(), 1268);
     }
 
     #[test]
@@ -796,6 +953,102 @@ END
             &LoadOptions::default(),
         );
         assert!(matches!(r, Err(LoadError::Parse { .. })), "{r:?}");
+    }
+
+    /// A PDB atom line (chain `ch`, one character).
+    fn atom_line(serial: usize, name: &str, res: &str, ch: char, seq: i32, x: f64) -> String {
+        format!(
+            "ATOM  {serial:>5} {name:<4} {res:>3} {ch}{seq:>4}    {x:>8.3}{:>8.3}{:>8.3}  1.00  0.00           {}\n",
+            0.0,
+            0.0,
+            &name[..1]
+        )
+    }
+
+    #[test]
+    fn a_water_reusing_a_residue_number_stays_a_water() {
+        // Chains blank, waters numbered from 1 again (as simulation programs
+        // write them): pdbtbx would put water 1 into ALA 1, under its name.
+        let mut text = String::new();
+        text += &atom_line(1, "N", "ALA", ' ', 1, 0.0);
+        text += &atom_line(2, "CA", "ALA", ' ', 1, 1.5);
+        text += &atom_line(3, "O", "ALA", ' ', 1, 2.5);
+        text += &atom_line(4, "N", "GLY", ' ', 2, 4.0);
+        text += &atom_line(5, "O", "HOH", ' ', 1, 10.0);
+        text += &atom_line(6, "O", "HOH", ' ', 2, 20.0);
+        let l = parse_pdb_text(&text).unwrap();
+        let names: Vec<(&str, &str, &str)> = l
+            .structure
+            .atoms
+            .iter()
+            .map(|a| (a.name.as_str(), a.residue.as_str(), a.chain.as_str()))
+            .collect();
+        assert_eq!(
+            names,
+            [
+                ("N", "ALA", "A"),
+                ("CA", "ALA", "A"),
+                ("O", "ALA", "A"),
+                ("N", "GLY", "A"),
+                ("O", "HOH", "B"),
+                ("O", "HOH", "B"),
+            ]
+        );
+        let receptor = crate::model::receptor_only(&l.structure).unwrap();
+        assert_eq!(receptor.len(), 4);
+        // Alternates of one residue with two names (microheterogeneity,
+        // consecutive lines) are not a reuse.
+        let micro = "ATOM      1  CA AARG A  10       0.000   0.000   0.000  0.60  0.00           C\n\
+                     ATOM      2  CA BLYS A  10       0.100   0.000   0.000  0.40  0.00           C\n";
+        let l = parse_pdb_text(micro).unwrap();
+        assert_eq!(l.structure.atoms.len(), 1);
+        assert_eq!(l.structure.atoms[0].residue, "ARG");
+    }
+
+    #[test]
+    fn a_named_chain_reusing_a_residue_number_is_refused_with_its_line() {
+        let mut text = String::new();
+        text += &atom_line(1, "N", "ALA", 'A', 1, 0.0);
+        text += &atom_line(2, "CA", "ALA", 'A', 1, 1.5);
+        text += "TER\n";
+        text += &atom_line(3, "C1", "LIG", 'A', 1, 30.0);
+        match parse_pdb_text(&text) {
+            Err(LoadError::Parse {
+                line: Some(4),
+                reason,
+                ..
+            }) => assert!(
+                reason.contains("LIG A 1") && reason.contains("ALA"),
+                "{reason}"
+            ),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn coordinates_that_are_not_finite_or_absurd_are_refused_with_their_line() {
+        for (bad, what) in [
+            ("     nan", "not finite"),
+            ("     inf", "not finite"),
+            ("  1.0e15", "beyond"),
+            ("99999999", "beyond"),
+        ] {
+            let good = atom_line(1, "N", "ALA", 'A', 1, 0.0);
+            let mut line = atom_line(2, "CA", "ALA", 'A', 1, 1.5);
+            line.replace_range(38..46, bad);
+            match parse_pdb_text(&(good + &line)) {
+                Err(LoadError::Parse {
+                    line: Some(2),
+                    reason,
+                    ..
+                }) => assert!(reason.contains('y') && reason.contains(what), "{reason}"),
+                other => panic!("{bad}: {other:?}"),
+            }
+        }
+        // Within range, far out: kept.
+        let mut line = atom_line(1, "CA", "ALA", 'A', 1, 0.0);
+        line.replace_range(30..38, "999999.0");
+        assert!(parse_pdb_text(&line).is_ok());
     }
 
     #[test]

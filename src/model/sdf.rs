@@ -27,7 +27,7 @@ use glam::DVec3;
 
 use super::element;
 use super::pdb::{RadiusLookup, file_name, read_bytes};
-use super::{AtomInfo, Hydrogens, LoadError, LoadOptions, Loaded, Structure};
+use super::{AtomInfo, Hydrogens, LoadError, LoadOptions, Loaded, MAX_FILE_COORDINATE, Structure};
 
 /// Longest residue label taken from a record's title line.
 const MAX_RESIDUE_CHARS: usize = 8;
@@ -303,6 +303,12 @@ impl Record<'_> {
                     format!("{name} coordinate is not finite: {:?}", text.trim()),
                 ));
             }
+            if value.abs() > MAX_FILE_COORDINATE {
+                return Err(self.err(
+                    i,
+                    format!("{name} coordinate {value} is beyond ±{MAX_FILE_COORDINATE:e} Å"),
+                ));
+            }
             *slot = value;
         }
         Ok(DVec3::from_array(v))
@@ -414,7 +420,8 @@ fn fixed_v2000_atom(line: &str) -> Option<(String, DVec3)> {
     let num = |r: std::ops::Range<usize>| {
         line.get(r)
             .and_then(|f| f.trim().parse::<f64>().ok())
-            .filter(|v| v.is_finite())
+            // Anything else is read (and refused, naming it) field by field.
+            .filter(|v| v.is_finite() && v.abs() <= MAX_FILE_COORDINATE)
     };
     let (x, y, z) = (num(0..10)?, num(10..20)?, num(20..30)?);
     let symbol = line.get(31..line.len().min(34))?.trim();
