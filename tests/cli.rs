@@ -53,9 +53,42 @@ fn builtin_scene_docks_by_a_straight_push() {
             "--json",
         ]);
         assert_eq!(v["response"], response);
+        // `stop` stays put and says its contacts are where the step ran in.
+        assert_eq!(v["step_rejected"], response == "stop", "{response}");
     }
-    let plain = bump(&["touch", "builtin", "--move", "0,0,25"]);
+    let plain = bump(&["touch", "builtin", "--start", "0,5,0", "--move", "0,0,25"]);
+    let plain = String::from_utf8_lossy(&plain.stdout).into_owned();
+    assert!(!plain.contains("rejected") && plain.contains("in contact"));
+    let stop = bump(&[
+        "touch",
+        "builtin",
+        "--start",
+        "0,5,0",
+        "--move",
+        "0,0,25",
+        "--response",
+        "stop",
+    ]);
+    let stop = String::from_utf8_lossy(&stop.stdout).into_owned();
+    assert!(stop.contains("the step was rejected"), "{stop}");
+    // The built-in scene is the default: no file needed.
+    let plain = bump(&["touch", "--move", "0,0,25"]);
     assert!(String::from_utf8_lossy(&plain.stdout).contains("t = 1.000000"));
+    // An axis of any finite size turns; a tolerance too fine is raised, and said.
+    let v = json(&[
+        "touch",
+        "--move",
+        "0,0,-5",
+        "--turn",
+        "1e300,1e300,0,30",
+        "--json",
+    ]);
+    let turned = v["final_pose"]["angle_deg"].as_f64().expect("angle");
+    assert!((turned - 30.0).abs() < 1e-9, "{turned}");
+    let out = bump(&["touch", "--move", "0,0,1", "--tolerance", "1e-12", "--json"]);
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON output");
+    assert_eq!(v["tolerance"], 1e-5);
+    assert!(stderr(&out).contains("raised to 1e-5"), "{}", stderr(&out));
 }
 
 #[test]
@@ -180,6 +213,13 @@ fn bad_input_gets_clear_errors() {
         "{}",
         stderr(&out)
     );
+    // The operating system's reason, once.
+    assert_eq!(
+        stderr(&out).matches("os error").count(),
+        1,
+        "{}",
+        stderr(&out)
+    );
 
     let dir = std::env::temp_dir().join(format!("bump-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("tmp");
@@ -203,6 +243,44 @@ fn bad_input_gets_clear_errors() {
     assert!(stderr(&out).contains("brute, grid or hashed"));
     let out = bump(&["touch", "builtin", "--move", "0,0,1", "--overlap", "nan"]);
     assert_eq!(out.status.code(), Some(2));
+    // Poses beyond the range the collision math is exact in are refused.
+    for args in [
+        &["touch", "--move", "1e155,0,0"][..],
+        &["touch", "--start", "0,-2e9,0", "--move", "0,0,1"][..],
+        &["check", "--move", "0,0,3e9"][..],
+    ] {
+        let out = bump(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&out).contains("beyond the 1e9 Å"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    // A parser that panics on bad values (pdbtbx does) is an error like any
+    // other: no panic message, the file named, and the line where known.
+    let cif = dir.join("unknown-element.cif");
+    std::fs::write(
+        &cif,
+        "data_T\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n\
+         _atom_site.label_atom_id\n_atom_site.label_comp_id\n_atom_site.label_asym_id\n\
+         _atom_site.label_seq_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n\
+         ATOM 1 ? N MET A 1 0.0 0.0 0.0\n",
+    )
+    .expect("write");
+    let nan = dir.join("nan.pdb");
+    std::fs::write(
+        &nan,
+        "ATOM      1  N   MET A   1      38.296  20.158  39.260  1.00  0.00           N\n\
+         ATOM      2  CA  MET A   1         nan  20.000  39.000  1.00  0.00           C\n",
+    )
+    .expect("write");
+    for (file, at) in [(&cif, "unknown-element.cif"), (&nan, "nan.pdb:2")] {
+        let out = bump(&["stats", file.to_str().expect("path")]);
+        assert_eq!(out.status.code(), Some(2));
+        let e = stderr(&out);
+        assert!(e.contains(at) && !e.contains("panicked"), "{e}");
+    }
     let out = bump(&["check", "unknown.xyz"]);
     assert!(stderr(&out).contains("unknown format"), "{}", stderr(&out));
     let _ = std::fs::remove_dir_all(&dir);

@@ -8,7 +8,7 @@ use serde::Serialize;
 use super::report::{
     MoleculeReport, PairReport, RuleReport, molecule_report, pair_reports, print_pairs, rule_report,
 };
-use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed};
+use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed, within_range};
 
 /// Arguments of `bump check`.
 #[derive(Debug, Args)]
@@ -53,6 +53,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     let rel = scene
         .file_relative(DVec3::ZERO)
         .moved(offset, turn.axis, turn.degrees.to_radians());
+    within_range(scene, "--move", &rel)?;
     let (pairs, us) = timed(5, || scene.check(&rel)).context("static check")?;
     let report = CheckReport {
         receptor: molecule_report(&loaded.receptor_source, &scene.receptor),

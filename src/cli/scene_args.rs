@@ -10,6 +10,7 @@ use bump::model::{
     self, Hydrogens, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin, receptor_only,
     split_complex,
 };
+use bump::motion::{MAX_COORDINATE, Pose};
 use bump::scene::Scene;
 use clap::Args;
 use glam::DVec3;
@@ -18,7 +19,8 @@ use glam::DVec3;
 #[derive(Debug, Args, Clone)]
 pub struct SceneArgs {
     /// Receptor file (PDB, mmCIF, optionally .gz), or a complex to split with
-    /// --ligand, or `builtin` for the thesis's triple ring and E.
+    /// --ligand, or `builtin` (the default) for the thesis's triple ring and E.
+    #[arg(default_value = "builtin")]
     pub receptor: String,
     /// Drug file (SDF, PDB or mmCIF). Without it the drug is split from the
     /// receptor file with --ligand (default: auto).
@@ -94,13 +96,39 @@ pub fn parse_turn(s: &str) -> Result<Turn, String> {
     match v.as_slice() {
         [x, y, z, d] if v.iter().all(|c| c.is_finite()) => {
             let axis = DVec3::new(*x, *y, *z);
-            if axis.length_squared() == 0.0 && *d != 0.0 {
-                return Err(format!("`{s}`: the turn axis is zero"));
+            // Scaled to its largest component first, so that neither 1e300
+            // nor 1e-300 over- or underflows on the way to a unit vector.
+            let largest = axis.abs().max_element();
+            if largest == 0.0 {
+                return if *d == 0.0 {
+                    Ok(Turn { axis, degrees: 0.0 })
+                } else {
+                    Err(format!("`{s}`: the turn axis is zero"))
+                };
             }
-            Ok(Turn { axis, degrees: *d })
+            Ok(Turn {
+                axis: (axis / largest).normalize(),
+                degrees: *d,
+            })
         }
         _ => Err(format!("`{s}`: expected four finite numbers AX,AY,AZ,DEG")),
     }
+}
+
+/// Refuses a drug pose (relative to the receptor) whose centre lies beyond
+/// [`MAX_COORDINATE`] of the origin, naming the option that put it there.
+pub fn within_range(scene: &Scene, option: &str, rel: &Pose) -> anyhow::Result<()> {
+    let farthest = scene
+        .world_from_relative(rel)
+        .translation
+        .abs()
+        .max_element();
+    if farthest <= MAX_COORDINATE {
+        return Ok(());
+    }
+    bail!(
+        "{option}: the drug's centre would be {farthest:e} Å from the origin along an axis, beyond the {MAX_COORDINATE:e} Å a pose may reach"
+    )
 }
 
 /// A loaded scene with where it came from.

@@ -2,6 +2,7 @@
 //! much of it the collision response allows.
 
 use anyhow::Context;
+use bump::collide::sweep::MIN_TOLERANCE;
 use bump::collide::{Method, Response, TouchOptions};
 use clap::Args;
 use glam::DVec3;
@@ -11,7 +12,7 @@ use super::report::{
     MoleculeReport, PairReport, RuleReport, molecule_report, pair_report, pair_reports,
     print_pairs, rule_report,
 };
-use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed};
+use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed, within_range};
 use bump::motion::pose::PoseSummary;
 
 /// How far beyond contact the nearest-pair report looks, in Å.
@@ -25,7 +26,9 @@ pub struct TouchArgs {
     /// Proposed translation of the drug's centre, DX,DY,DZ Å.
     #[arg(long = "move", value_name = "DX,DY,DZ", value_parser = parse_vec3, allow_hyphen_values = true)]
     translate: DVec3,
-    /// Proposed turn about the drug's centre: axis AX,AY,AZ and degrees.
+    /// Proposed turn about the drug's centre: axis AX,AY,AZ and degrees. The
+    /// motion is the screw from the start pose to the turned end pose, so a
+    /// turn goes the shorter way round: 270° runs as −90°, 360° is no turn.
     #[arg(long, value_name = "AX,AY,AZ,DEG", value_parser = parse_turn, allow_hyphen_values = true)]
     turn: Option<Turn>,
     /// Start at the file pose shifted by DX,DY,DZ Å.
@@ -37,7 +40,8 @@ pub struct TouchArgs {
     /// Move-to-touch method: swept (never tunnels) or thesis (Turk's bisection).
     #[arg(long, default_value = "swept", value_parser = parse_method)]
     method: Method,
-    /// Distance tolerance of the touch, Å.
+    /// Distance tolerance of the touch, Å (at least 1e-5: closer than that,
+    /// f32 coordinates cannot tell touching from colliding).
     #[arg(long, default_value_t = 1e-3)]
     tolerance: f64,
     /// Print JSON.
@@ -79,6 +83,9 @@ struct TouchReport {
     start_clashes: Vec<PairReport>,
     t: f64,
     legs: usize,
+    /// `stop` rejected the step: the drug stays at the start, and
+    /// `contacts` are the pairs the step would have run into.
+    step_rejected: bool,
     final_pose: FinalPose,
     contacts: Vec<PairReport>,
     colliding_at_end: Vec<PairReport>,
@@ -105,8 +112,17 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     });
     let start = scene.file_relative(offset);
     let end = start.moved(args.translate, turn.axis, turn.degrees.to_radians());
+    within_range(scene, "--start", &start)?;
+    within_range(scene, "--move", &end)?;
+    let tolerance = args.tolerance.max(MIN_TOLERANCE);
+    if tolerance > args.tolerance {
+        eprintln!(
+            "warning: --tolerance {} raised to {MIN_TOLERANCE:e} Å: f32 coordinates cannot tell touching from colliding closer than that",
+            args.tolerance
+        );
+    }
     let opts = TouchOptions {
-        tolerance: args.tolerance,
+        tolerance,
         method: args.method,
     };
     let (r, us) =
@@ -126,7 +142,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         collider: scene.collider().kind().name(),
         response: args.response.name(),
         method: args.method.name(),
-        tolerance: args.tolerance,
+        tolerance,
         start_offset: offset.to_array(),
         proposed_move: args.translate.to_array(),
         proposed_turn_axis: turn.axis.to_array(),
@@ -135,6 +151,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         start_clashes: rep(&r.start_colliding),
         t: r.t,
         legs: r.legs,
+        step_rejected: args.response == Response::Stop && r.t < 1.0,
         final_pose: FinalPose {
             pose: world.summary(),
             displacement: (r.pose.translation - start.translation).to_array(),
@@ -187,12 +204,24 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         Some(g) => outln!("smallest gap {g:.4} Å"),
         None => outln!("no receptor atom within 4 Å of contact"),
     }
-    outln!(
-        "{} pair{} in contact (gap <= {} Å):",
-        report.contacts.len(),
-        if report.contacts.len() == 1 { "" } else { "s" },
-        report.tolerance
-    );
+    let pairs = if report.contacts.len() == 1 {
+        "pair"
+    } else {
+        "pairs"
+    };
+    if report.step_rejected {
+        outln!(
+            "the step was rejected (stop); it would have run into {} {pairs} (gap <= {} Å):",
+            report.contacts.len(),
+            report.tolerance
+        );
+    } else {
+        outln!(
+            "{} {pairs} in contact (gap <= {} Å):",
+            report.contacts.len(),
+            report.tolerance
+        );
+    }
     print_pairs(&report.contacts);
     if !report.colliding_at_end.is_empty() {
         outln!(
