@@ -35,10 +35,16 @@ pub enum LoadError {
         reason: String,
     },
     /// The file parsed but holds no atoms (after dropping hydrogens, if asked).
-    #[error("{path}: no atoms")]
+    #[error("{path}: no atoms{}", if *dropped_hydrogens > 0 {
+        format!(" but {dropped_hydrogens} hydrogens, which are dropped by default (--hydrogens keep keeps them)")
+    } else {
+        String::new()
+    })]
     NoAtoms {
         /// The file.
         path: String,
+        /// Hydrogens it had, all dropped.
+        dropped_hydrogens: usize,
     },
     /// The ligand asked for is not in the file, or the split left nothing.
     #[error("{path}: {reason}")]

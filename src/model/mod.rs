@@ -91,6 +91,7 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
     if loaded.structure.atoms.is_empty() {
         return Err(LoadError::NoAtoms {
             path: path.display().to_string(),
+            dropped_hydrogens: 0,
         });
     }
     Ok(loaded)

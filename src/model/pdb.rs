@@ -218,6 +218,7 @@ fn parse_text(
             if fatal.peek().is_some() && fatal.all(|e| e.short_description() == "No Atoms") {
                 return Err(LoadError::NoAtoms {
                     path: label.to_string(),
+                    dropped_hydrogens: 0,
                 });
             }
             return Err(fatal_error(label, &errors));
@@ -240,6 +241,7 @@ fn parse_text(
     let mut lookup = RadiusLookup::new(opts.radii);
     let mut atoms = Vec::new();
     let mut positions = Vec::new();
+    let mut dropped = 0;
     if let Some(model) = pdb.model(0) {
         let mut sites = Vec::new();
         for chain in model.chains() {
@@ -270,6 +272,7 @@ fn parse_text(
                 |e| element::normalize_symbol(e.symbol()),
             );
             if opts.hydrogens == Hydrogens::Drop && element::is_hydrogen(&element) {
+                dropped += 1;
                 continue;
             }
             let radius = lookup.radius(&element);
@@ -304,6 +307,7 @@ fn parse_text(
     if atoms.is_empty() {
         return Err(LoadError::NoAtoms {
             path: label.to_string(),
+            dropped_hydrogens: dropped,
         });
     }
     warnings.extend(lookup.warnings(label));

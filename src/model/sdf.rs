@@ -67,6 +67,7 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
     if records.is_empty() {
         return Err(LoadError::NoAtoms {
             path: path_label.to_string(),
+            dropped_hydrogens: 0,
         });
     }
     let wanted = opts.sdf_record.unwrap_or(1);
@@ -102,9 +103,11 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
     let mut lookup = RadiusLookup::new(opts.radii);
     let mut atoms = Vec::with_capacity(parsed.len());
     let mut positions = Vec::with_capacity(parsed.len());
+    let mut dropped = 0;
     for (i, (symbol, pos)) in parsed.into_iter().enumerate() {
         let element = element::normalize_symbol(&symbol);
         if opts.hydrogens == Hydrogens::Drop && element::is_hydrogen(&element) {
+            dropped += 1;
             continue;
         }
         let serial = i + 1;
@@ -125,6 +128,7 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
     if atoms.is_empty() {
         return Err(LoadError::NoAtoms {
             path: path_label.to_string(),
+            dropped_hydrogens: dropped,
         });
     }
     let mut warnings = Vec::new();
@@ -648,7 +652,15 @@ $$$$
         let zero = "empty\n\n\n  0  0  0  0  0  0  0  0  0  0999 V2000\nM  END\n$$$$\n";
         assert!(matches!(parse(zero), Err(LoadError::NoAtoms { .. })));
         let only_h = "h\n\n\n  1  0  0  0  0  0  0  0  0  0999 V2000\n    0.0000    0.0000    0.0000 H   0  0\nM  END\n";
-        assert!(matches!(parse(only_h), Err(LoadError::NoAtoms { .. })));
+        let e = parse(only_h).unwrap_err();
+        assert!(matches!(
+            e,
+            LoadError::NoAtoms {
+                dropped_hydrogens: 1,
+                ..
+            }
+        ));
+        assert!(e.to_string().contains("--hydrogens keep"), "{e}");
     }
 
     #[test]

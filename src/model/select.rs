@@ -362,6 +362,7 @@ pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
     if atoms.is_empty() {
         return Err(LoadError::NoAtoms {
             path: s.name.clone(),
+            dropped_hydrogens: 0,
         });
     }
     Ok(Molecule::new(
