@@ -118,16 +118,13 @@ pub fn parse_turn(s: &str) -> Result<Turn, String> {
 /// Refuses a drug pose (relative to the receptor) whose centre lies beyond
 /// [`MAX_COORDINATE`] of the origin, naming the option that put it there.
 pub fn within_range(scene: &Scene, option: &str, rel: &Pose) -> anyhow::Result<()> {
-    let farthest = scene
-        .world_from_relative(rel)
-        .translation
-        .abs()
-        .max_element();
-    if farthest <= MAX_COORDINATE {
+    let world = scene.world_from_relative(rel);
+    if world.within_range() {
         return Ok(());
     }
+    let farthest = world.translation.abs().max_element();
     bail!(
-        "{option}: the drug's centre would be {farthest:e} Å from the origin along an axis, beyond the {MAX_COORDINATE:e} Å a pose may reach"
+        "{option}: the drug's centre would be {farthest:.3e} Å from the origin along an axis, beyond the {MAX_COORDINATE:e} Å a pose may reach"
     )
 }
 
