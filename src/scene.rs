@@ -14,6 +14,11 @@ use crate::collide::{
 use crate::model::Molecule;
 use crate::motion::Pose;
 
+/// Centre distance, in Å, under which two atoms count as coincident (the
+/// same atom twice): far below any bond length (H–H, the shortest, is
+/// 0.74 Å).
+pub const COINCIDENT_WITHIN: f32 = 0.5;
+
 /// A receptor, a drug and a collider over the receptor.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -83,6 +88,29 @@ impl Scene {
         check(&self.collider, &self.drug_atoms, rel)
     }
 
+    /// Drug atoms lying on top of receptor atoms at relative pose `rel`:
+    /// for each drug atom whose centre is within [`COINCIDENT_WITHIN`] of a
+    /// receptor atom's, the closest such pair, in drug-atom order. Such atoms
+    /// collide whatever the motion; most often the receptor file still holds
+    /// the drug that was also given as its own file. Pairs this close always
+    /// collide under any rule whose overlap is under the two radii, so they
+    /// are taken from the static check.
+    pub fn coincident_atoms(&self, rel: &Pose) -> Vec<Pair> {
+        let mut close: Vec<Pair> = self
+            .check(rel)
+            .into_iter()
+            .filter(|p| p.distance <= COINCIDENT_WITHIN)
+            .collect();
+        close.sort_by(|a, b| {
+            a.drug
+                .cmp(&b.drug)
+                .then(a.distance.total_cmp(&b.distance))
+                .then(a.receptor.cmp(&b.receptor))
+        });
+        close.dedup_by_key(|p| p.drug);
+        close
+    }
+
     /// Move-to-touch from `start` to `end` (relative poses).
     pub fn move_to_touch(&self, start: &Pose, end: &Pose, opts: &TouchOptions) -> TouchResult {
         move_to_touch(&self.collider, &self.drug_atoms, start, end, opts)
@@ -97,5 +125,35 @@ impl Scene {
         opts: &TouchOptions,
     ) -> StepResult {
         respond(&self.collider, &self.drug_atoms, start, end, response, opts)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{RadiiSet, builtin};
+
+    #[test]
+    fn a_drug_copied_from_the_receptor_is_found_atom_by_atom() {
+        let (_, e) = builtin::scene(RadiiSet::Bondi);
+        let scene = Scene::new(
+            e.clone(),
+            e.clone(),
+            ContactRule::default(),
+            ColliderKind::Hashed,
+        );
+        let on_top = scene.coincident_atoms(&scene.file_relative(DVec3::ZERO));
+        assert_eq!(on_top.len(), e.len());
+        for (i, p) in on_top.iter().enumerate() {
+            assert_eq!((p.drug, p.receptor), (i as u32, i as u32));
+            assert_eq!(p.distance, 0.0);
+        }
+        // Shifted by more than the limit, nothing is coincident, though
+        // the copies still collide.
+        let shifted = scene.file_relative(DVec3::new(0.0, 0.0, 0.6));
+        assert!(!scene.check(&shifted).is_empty());
+        assert!(scene.coincident_atoms(&shifted).is_empty());
+        let near = scene.file_relative(DVec3::new(0.0, 0.0, 0.4));
+        assert_eq!(scene.coincident_atoms(&near).len(), e.len());
     }
 }

@@ -71,6 +71,10 @@ fn builtin_scene_docks_by_a_straight_push() {
     let stop = misaligned("stop", false);
     let stop = String::from_utf8_lossy(&stop.stdout).into_owned();
     assert!(stop.contains("the step was rejected"), "{stop}");
+    // A turn past half a revolution says how it will run.
+    let out = bump(&["touch", "--move", "0,0,25", "--turn", "0,0,1,270"]);
+    assert!(out.status.success());
+    assert!(stderr(&out).contains("as -90°"), "{}", stderr(&out));
     // The built-in scene is the default: no file needed.
     let plain = bump(&["touch", "--move", "0,0,25"]);
     assert!(String::from_utf8_lossy(&plain.stdout).contains("t = 1.000000"));
@@ -151,6 +155,18 @@ fn check_reports_serials_and_the_rule() {
         "--json",
     ]);
     assert_eq!(v["drug"]["atoms"], 21);
+    let quiet = bump(&["check", r.to_str().expect("path"), sdf]);
+    assert!(!stderr(&quiet).contains("lie within"), "{}", stderr(&quiet));
+    // The drug given again beside the complex that still holds it: said,
+    // with the split that was meant.
+    let complex = dir.join("6xg5_tmp_prepared.pdb");
+    let out = bump(&["check", complex.to_str().expect("path"), sdf]);
+    assert!(out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains("21 of 21 drug atoms lie within 0.5 Å") && e.contains("--ligand TOP"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -202,6 +218,17 @@ fn stats_reproduces_table_1_columns() {
         assert_eq!(r["hash_cells"], 4096);
         assert!(r["cell_size"].as_f64().expect("cell") > 3.0);
     }
+    // Hydrogens are spelt as in check and touch (the old flag still works).
+    let h = dir.join("6xg5_tmp_prepared.pdb").display().to_string();
+    let atoms = |extra: &[&str]| {
+        let mut args = vec!["stats", "--json", h.as_str()];
+        args.extend(extra);
+        json(&args)[0]["atoms"].as_u64().expect("atoms")
+    };
+    let (dropped, kept) = (atoms(&[]), atoms(&["--hydrogens", "keep"]));
+    assert!(kept > dropped, "{kept} {dropped}");
+    assert_eq!(atoms(&["--keep-hydrogens"]), kept);
+    assert_eq!(atoms(&["--hydrogens", "drop", "--radii", "bondi"]), dropped);
 }
 
 #[test]
@@ -281,6 +308,18 @@ fn bad_input_gets_clear_errors() {
         let e = stderr(&out);
         assert!(e.contains(at) && !e.contains("panicked"), "{e}");
     }
+    // A record number only means something for SDF.
+    let tiny = dir.join("tiny.pdb");
+    std::fs::write(
+        &tiny,
+        "ATOM      1  N   MET A   1      38.296  20.158  39.260  1.00  0.00           N\n",
+    )
+    .expect("write");
+    let tiny = tiny.to_str().expect("path");
+    let out = bump(&["check", tiny, tiny, "--record", "2"]);
+    assert_eq!(out.status.code(), Some(2));
+    let e = stderr(&out);
+    assert!(e.contains("tiny.pdb: record 2 was asked for"), "{e}");
     let out = bump(&["check", "unknown.xyz"]);
     assert!(stderr(&out).contains("unknown format"), "{}", stderr(&out));
     let _ = std::fs::remove_dir_all(&dir);

@@ -11,7 +11,7 @@ use bump::model::{
     split_complex,
 };
 use bump::motion::{MAX_COORDINATE, Pose};
-use bump::scene::Scene;
+use bump::scene::{COINCIDENT_WITHIN, Scene};
 use clap::Args;
 use glam::DVec3;
 
@@ -25,7 +25,7 @@ pub struct SceneArgs {
     /// Drug file (SDF, PDB or mmCIF). Without it the drug is split from the
     /// receptor file with --ligand (default: auto).
     pub drug: Option<PathBuf>,
-    /// Drug residue in the receptor file: RESNAME, RESNAME:CHAIN:SEQ or auto.
+    /// Drug residue in the receptor file: RESNAME, RESNAME:CHAIN:SEQ (SEQ may end in an insertion code, 52A) or auto.
     #[arg(long)]
     pub ligand: Option<String>,
     /// SDF record to read from the drug file (1-based).
@@ -48,11 +48,11 @@ pub struct SceneArgs {
     pub collider: ColliderKind,
 }
 
-fn parse_radii(s: &str) -> Result<RadiiSet, String> {
+pub fn parse_radii(s: &str) -> Result<RadiiSet, String> {
     RadiiSet::parse(s).ok_or_else(|| format!("unknown radii `{s}` (bondi or thesis)"))
 }
 
-fn parse_hydrogens(s: &str) -> Result<Hydrogens, String> {
+pub fn parse_hydrogens(s: &str) -> Result<Hydrogens, String> {
     match s {
         "drop" => Ok(Hydrogens::Drop),
         "keep" => Ok(Hydrogens::Keep),
@@ -200,6 +200,7 @@ impl SceneArgs {
         let t0 = Instant::now();
         let scene = Scene::new(receptor, drug, rule, self.collider);
         let build_us = t0.elapsed().as_secs_f64() * 1e6;
+        warn_coincident(&scene, self.drug.is_some());
         Ok(LoadedScene {
             scene,
             receptor_source: self.receptor.clone(),
@@ -217,6 +218,43 @@ fn check_usable(receptor: &Molecule, drug: &Molecule) -> anyhow::Result<()> {
         bail!("{}: the drug has no atoms", drug.name);
     }
     Ok(())
+}
+
+/// Warns when drug atoms lie on receptor atoms at the file pose, naming one
+/// such pair and, when the receptor atom belongs to a hetero group and the
+/// drug came as its own file, the `--ligand` that would split it instead.
+fn warn_coincident(scene: &Scene, drug_file: bool) {
+    let on_top = scene.coincident_atoms(&scene.file_relative(DVec3::ZERO));
+    let Some(first) = on_top.first() else {
+        return;
+    };
+    let (Some(r), Some(d)) = (
+        scene.receptor.atoms.get(first.receptor as usize),
+        scene.drug.atoms.get(first.drug as usize),
+    ) else {
+        return;
+    };
+    let hint = if drug_file && r.hetero {
+        format!(
+            "; the receptor file seems to hold the drug as well: give only that file and pick the drug with --ligand {}",
+            r.residue
+        )
+    } else {
+        "; they collide whatever the motion".to_string()
+    };
+    eprintln!(
+        "bump: warning: {} of {} drug atoms lie within {COINCIDENT_WITHIN} Å of a receptor atom at the file pose (e.g. drug {} {} on receptor {} {}/{}{} {}, {:.2} Å apart){hint}",
+        on_top.len(),
+        scene.drug.len(),
+        d.residue,
+        d.name,
+        r.residue,
+        r.chain,
+        r.seq,
+        r.insertion,
+        r.name,
+        first.distance
+    );
 }
 
 fn warn(warnings: &[String]) {

@@ -7,6 +7,8 @@ use bump::model::{self, Hydrogens, LoadOptions, RadiiSet, receptor_only};
 use clap::Args;
 use serde::Serialize;
 
+use super::scene_args::{parse_hydrogens, parse_radii};
+
 /// Arguments of `bump stats`.
 #[derive(Debug, Args)]
 pub struct StatsArgs {
@@ -19,11 +21,15 @@ pub struct StatsArgs {
     /// Buckets of the hashed table.
     #[arg(long, default_value_t = THESIS_HASH_CELLS)]
     hash_cells: usize,
-    /// Radius table: bondi or thesis.
-    #[arg(long, default_value = "thesis")]
-    radii: String,
-    /// Keep hydrogens.
-    #[arg(long)]
+    /// Radius table: thesis (Turk 1989, the default here, as Table 1) or
+    /// bondi (Bondi 1964, Mantina 2009).
+    #[arg(long, default_value = "thesis", value_parser = parse_radii)]
+    radii: RadiiSet,
+    /// Hydrogens: drop (default) or keep, as in check and touch.
+    #[arg(long, default_value = "drop", value_parser = parse_hydrogens)]
+    hydrogens: Hydrogens,
+    /// The older spelling of `--hydrogens keep`.
+    #[arg(long, hide = true, conflicts_with = "hydrogens")]
     keep_hydrogens: bool,
     /// Print JSON.
     #[arg(long)]
@@ -39,8 +45,7 @@ struct FileRow {
 
 /// Runs `bump stats`.
 pub fn run(args: &StatsArgs) -> anyhow::Result<()> {
-    let radii = RadiiSet::parse(&args.radii)
-        .ok_or_else(|| anyhow::anyhow!("unknown radii `{}` (bondi or thesis)", args.radii))?;
+    let radii = args.radii;
     if !args.hash_cells.is_power_of_two() {
         anyhow::bail!(
             "--hash-cells must be a power of two, got {}",
@@ -57,7 +62,7 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<()> {
         hydrogens: if args.keep_hydrogens {
             Hydrogens::Keep
         } else {
-            Hydrogens::Drop
+            args.hydrogens
         },
         sdf_record: None,
     };

@@ -95,6 +95,30 @@ struct TouchReport {
     elapsed_us: f64,
 }
 
+/// The angle, in degrees within (−180, 180], that a turn of `degrees`
+/// runs as: the screw between two poses takes the shorter way round.
+fn shorter_way(degrees: f64) -> f64 {
+    let r = degrees.rem_euclid(360.0);
+    if r > 180.0 { r - 360.0 } else { r }
+}
+
+/// Says how a turn of more than half a revolution will run.
+fn warn_long_turn(degrees: f64) {
+    if degrees.abs() <= 180.0 {
+        return;
+    }
+    let runs = shorter_way(degrees);
+    if runs == 0.0 {
+        eprintln!(
+            "bump: warning: --turn of {degrees}° is whole turns: the drug ends as it starts, so the step is only the move"
+        );
+    } else {
+        eprintln!(
+            "bump: warning: --turn of {degrees}° runs the shorter way round, as {runs}°; split a longer turn into steps of at most 180°"
+        );
+    }
+}
+
 /// Runs `bump touch`.
 pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     if !args.tolerance.is_finite() || args.tolerance <= 0.0 {
@@ -110,6 +134,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         axis: DVec3::Z,
         degrees: 0.0,
     });
+    warn_long_turn(turn.degrees);
     let start = scene.file_relative(offset);
     let end = start.moved(args.translate, turn.axis, turn.degrees.to_radians());
     within_range(scene, "--start", &start)?;
@@ -230,4 +255,26 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shorter_way;
+
+    #[test]
+    fn turns_run_the_shorter_way() {
+        for (asked, runs) in [
+            (0.0, 0.0),
+            (90.0, 90.0),
+            (180.0, 180.0),
+            (-180.0, 180.0),
+            (270.0, -90.0),
+            (-270.0, 90.0),
+            (360.0, 0.0),
+            (725.0, 5.0),
+            (-30.0, -30.0),
+        ] {
+            assert_eq!(shorter_way(asked), runs, "{asked}");
+        }
+    }
 }

@@ -34,6 +34,16 @@ pub enum LoadError {
         /// What is wrong.
         reason: String,
     },
+    /// A record number was asked of a file that has no records (not SDF).
+    #[error(
+        "{path}: record {record} was asked for, but only SDF files hold several records; a PDB or mmCIF file is read whole (its first model)"
+    )]
+    NotRecords {
+        /// The file.
+        path: String,
+        /// The record asked for (1-based).
+        record: usize,
+    },
     /// The file parsed but holds no atoms (after dropping hydrogens, if asked).
     #[error("{path}: no atoms{}", if *dropped_hydrogens > 0 {
         format!(" but {dropped_hydrogens} hydrogens, which are dropped by default (--hydrogens keep keeps them)")

@@ -41,7 +41,8 @@ pub struct LoadOptions {
     pub radii: RadiiSet,
     /// Keep or drop hydrogens.
     pub hydrogens: Hydrogens,
-    /// For SDF files: which record (1-based); the first when `None`.
+    /// For SDF files: which record (1-based); the first when `None`. Other
+    /// formats have no records and refuse one ([`LoadError::NotRecords`]).
     pub sdf_record: Option<usize>,
 }
 
@@ -82,6 +83,12 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
         || stem.ends_with(".cif")
         || stem.ends_with(".mmcif")
     {
+        if let Some(record) = opts.sdf_record {
+            return Err(LoadError::NotRecords {
+                path: path.display().to_string(),
+                record,
+            });
+        }
         pdb::load_pdbtbx(path, opts)?
     } else {
         return Err(LoadError::UnknownFormat {

@@ -3,9 +3,10 @@
 //! A residue copy is identified by chain, sequence number, insertion code and
 //! residue name; atoms are grouped into copies in file order. The drug is one
 //! copy, chosen by a [`LigandSpec`]:
-//! - `RESNAME[:CHAIN[:SEQ]]`: the first copy in file order with that name
-//!   (any case) and, when given, that chain (exact, chain ids are
-//!   case-sensitive) and sequence number;
+//! - `RESNAME[:CHAIN[:SEQ[ICODE]]]`: the first copy in file order with that
+//!   name (any case) and, when given, that chain (exact, chain ids are
+//!   case-sensitive), sequence number and insertion code (`52A`; without a
+//!   code any copy with that number matches);
 //! - `auto`: the copy with the most atoms (ties to the first) among hetero
 //!   residues that are not water ([`super::is_water`]) and not in the skip list:
 //!   single-atom residues, the small ions and additives in [`AUTO_SKIPPED`]
@@ -49,13 +50,16 @@ pub enum LigandSpec {
         chain: Option<String>,
         /// Residue sequence number.
         seq: Option<i64>,
+        /// Insertion code (`A` of `52A`), exact; only with a number.
+        insertion: Option<String>,
     },
 }
 
 impl LigandSpec {
     /// Parses `auto` (any case), `RESNAME`, `RESNAME:CHAIN` or
-    /// `RESNAME:CHAIN:SEQ`. The name is matched in any case; an empty chain
-    /// (`MTX::162`) means any chain. Insertion codes are not supported.
+    /// `RESNAME:CHAIN:SEQ`, where SEQ may end in an insertion code (`52A`).
+    /// The name is matched in any case; an empty chain (`MTX::162`) means
+    /// any chain.
     ///
     /// # Errors
     /// A message saying what is wrong with `s`.
@@ -81,17 +85,26 @@ impl LigandSpec {
             .get(1)
             .filter(|c| !c.is_empty())
             .map(|c| (*c).to_string());
-        let seq = match parts.get(2).filter(|q| !q.is_empty()) {
-            Some(q) => Some(
-                q.parse::<i64>()
-                    .map_err(|_| format!("ligand {s:?}: residue number {q:?} is not an integer"))?,
-            ),
-            None => None,
+        let (seq, insertion) = match parts.get(2).filter(|q| !q.is_empty()) {
+            Some(q) => {
+                // An insertion code is the letters after the number.
+                let digits = q.trim_end_matches(|c: char| c.is_ascii_alphabetic());
+                let code = &q[digits.len()..];
+                let seq = digits.parse::<i64>().map_err(|_| {
+                    format!(
+                        "ligand {s:?}: residue number {q:?} is not an integer \
+                         (with an optional insertion code, as in 52A)"
+                    )
+                })?;
+                (Some(seq), (!code.is_empty()).then(|| code.to_string()))
+            }
+            None => (None, None),
         };
         Ok(LigandSpec::Residue {
             name: name.to_ascii_uppercase(),
             chain,
             seq,
+            insertion,
         })
     }
 }
@@ -108,12 +121,22 @@ impl fmt::Display for LigandSpec {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             LigandSpec::Auto => write!(f, "auto"),
-            LigandSpec::Residue { name, chain, seq } => {
+            LigandSpec::Residue {
+                name,
+                chain,
+                seq,
+                insertion,
+            } => {
                 write!(f, "{name}")?;
                 match (chain, seq) {
                     (None, None) => Ok(()),
                     (Some(c), None) => write!(f, ":{c}"),
-                    (c, Some(q)) => write!(f, ":{}:{q}", c.as_deref().unwrap_or("")),
+                    (c, Some(q)) => write!(
+                        f,
+                        ":{}:{q}{}",
+                        c.as_deref().unwrap_or(""),
+                        insertion.as_deref().unwrap_or("")
+                    ),
                 }
             }
         }
@@ -280,12 +303,18 @@ fn pick(s: &Structure, groups: &[Group<'_>], spec: &LigandSpec) -> Result<usize,
                 }
             })
         }
-        LigandSpec::Residue { name, chain, seq } => {
+        LigandSpec::Residue {
+            name,
+            chain,
+            seq,
+            insertion,
+        } => {
             let same_name = |g: &&Group<'_>| g.name.eq_ignore_ascii_case(name);
             if let Some(i) = groups.iter().position(|g| {
                 same_name(&g)
                     && chain.as_deref().is_none_or(|c| g.chain == c)
                     && seq.is_none_or(|q| g.seq == q)
+                    && insertion.as_deref().is_none_or(|c| g.insertion == c)
             }) {
                 return Ok(i);
             }
@@ -408,7 +437,8 @@ mod tests {
             LigandSpec::Residue {
                 name: "MTX".into(),
                 chain: None,
-                seq: None
+                seq: None,
+                insertion: None
             }
         );
         assert_eq!(
@@ -416,7 +446,8 @@ mod tests {
             LigandSpec::Residue {
                 name: "MTX".into(),
                 chain: Some("B".into()),
-                seq: Some(162)
+                seq: Some(162),
+                insertion: None
             }
         );
         assert_eq!(
@@ -424,13 +455,32 @@ mod tests {
             LigandSpec::Residue {
                 name: "MTX".into(),
                 chain: None,
-                seq: Some(-3)
+                seq: Some(-3),
+                insertion: None
             }
         );
+        assert_eq!(
+            spec("MTX:A:52a"),
+            LigandSpec::Residue {
+                name: "MTX".into(),
+                chain: Some("A".into()),
+                seq: Some(52),
+                insertion: Some("a".into())
+            }
+        );
+        assert_eq!(spec("MTX:A:-52B").to_string(), "MTX:A:-52B");
         assert_eq!(spec("MTX:B:162").to_string(), "MTX:B:162");
         assert_eq!(spec("MTX::7").to_string(), "MTX::7");
         assert_eq!(spec("MTX:b").to_string(), "MTX:b");
-        for bad in ["", ":A", "MTX:A:x", "A:B:C:D", "M X"] {
+        for bad in [
+            "",
+            ":A",
+            "MTX:A:x",
+            "MTX:A:5x2",
+            "MTX:A:B52",
+            "A:B:C:D",
+            "M X",
+        ] {
             assert!(LigandSpec::parse(bad).is_err(), "{bad}");
         }
     }
@@ -500,6 +550,24 @@ mod tests {
         );
         let err = split_complex(&s, &spec("XYZ")).unwrap_err().to_string();
         assert!(err.contains("MTX ×2") && err.contains("CL ×2"), "{err}");
+
+        // The second copy given an insertion code: picked by it, and by its
+        // number alone; another code is refused with the copies listed.
+        let mut coded = s.clone();
+        for a in &mut coded.atoms {
+            if a.residue == "MTX" && a.chain == "B" {
+                a.insertion = "A".into();
+            }
+        }
+        let (_, by_code) = split_complex(&coded, &spec("MTX:B:162A")).unwrap();
+        assert_eq!(by_code.centre, second.centre);
+        assert_eq!(by_code.name, "4dfr.pdb MTX B/162A");
+        let (_, by_number) = split_complex(&coded, &spec("MTX:B:162")).unwrap();
+        assert_eq!(by_number.centre, second.centre);
+        let err = split_complex(&coded, &spec("MTX::162B"))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("MTX B/162A"), "{err}");
     }
 
     #[test]
