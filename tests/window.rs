@@ -23,7 +23,7 @@ fn docking_in_a_real_window_shows_the_hud_and_highlights() {
     let runtime = x.runtime.clone();
     let log = runtime.join("bump.log");
     let mut app = x.launch(&["/nonexistent/receptor.pdb"], &log, Stdio::null());
-    x.window();
+    x.window(&mut app, &log);
     taps(&display, "space", 1); // object mode
     sleep(Duration::from_millis(300));
     taps(&display, "c", 1); // collision on

@@ -21,7 +21,7 @@ fn a_window_recording_replays_bit_for_bit_headless_and_in_a_window() {
     let rec_s = rec.to_str().expect("path").to_string();
     let log = x.runtime.join("record.log");
     let mut app = x.launch(&["--record", &rec_s], &log, Stdio::piped());
-    x.window();
+    x.window(&mut app, &log);
     taps(&d, "space", 1); // object mode
     sleep(Duration::from_millis(200));
     taps(&d, "c", 1); // collision on

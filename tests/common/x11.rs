@@ -70,23 +70,29 @@ pub fn screen(offset: u32) -> Option<Screen> {
             return None;
         }
     }
-    let display = format!(":{}", offset + std::process::id() % 200);
-    let xvfb = Kill(
-        Command::new("Xvfb")
-            .args([
-                display.as_str(),
-                "-screen",
-                "0",
-                "1280x800x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("Xvfb"),
-    );
-    sleep(Duration::from_millis(800));
+    // A display taken by another server makes Xvfb exit: try the next.
+    let first = offset + std::process::id() % 200;
+    let (display, xvfb) = (first..first + 20)
+        .find_map(|n| {
+            let display = format!(":{n}");
+            let mut xvfb = Kill(
+                Command::new("Xvfb")
+                    .args([
+                        display.as_str(),
+                        "-screen",
+                        "0",
+                        "1280x800x24",
+                        "-nolisten",
+                        "tcp",
+                    ])
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::null())
+                    .spawn()
+                    .expect("Xvfb"),
+            );
+            accepts_clients(&display, &mut xvfb).then_some((display, xvfb))
+        })
+        .expect("no free X display for Xvfb");
     let runtime = std::env::temp_dir().join(format!("bump-xdg-{offset}-{}", std::process::id()));
     std::fs::create_dir_all(&runtime).expect("runtime dir");
     Some(Screen {
@@ -94,6 +100,31 @@ pub fn screen(offset: u32) -> Option<Screen> {
         runtime,
         _xvfb: xvfb,
     })
+}
+
+/// Waits until the server on `display` takes connections (a fixed pause
+/// was too short on a loaded machine: the program then found no display and
+/// the test waited for a window that could not come); false when Xvfb
+/// exits first or 30 s pass.
+fn accepts_clients(display: &str, xvfb: &mut Kill) -> bool {
+    let t0 = Instant::now();
+    while t0.elapsed() < Duration::from_secs(30) {
+        if xvfb.0.try_wait().ok().flatten().is_some() {
+            return false;
+        }
+        let ok = Command::new("xdotool")
+            .arg("getdisplaygeometry")
+            .env("DISPLAY", display)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if ok {
+            return true;
+        }
+        sleep(Duration::from_millis(100));
+    }
+    false
 }
 
 impl Screen {
@@ -112,15 +143,28 @@ impl Screen {
         )
     }
 
-    /// Waits for a window titled `bump…`, focuses it and returns its id.
-    pub fn window(&self) -> String {
+    /// Waits for `app`'s window (titled `bump…`), focuses it and returns
+    /// its id. Fails at once, with the program's log (`log`), if the
+    /// program exits first.
+    pub fn window(&self, app: &mut Kill, log: &std::path::Path) -> String {
         let t0 = Instant::now();
+        let text = || std::fs::read_to_string(log).unwrap_or_default();
         let wid = loop {
             let w = xdotool(&self.display, &["search", "--name", "^bump"]);
             if let Some(id) = w.lines().next().filter(|s| !s.is_empty()) {
                 break id.to_string();
             }
-            assert!(t0.elapsed() < Duration::from_secs(60), "no window appeared");
+            if let Some(status) = app.0.try_wait().expect("wait") {
+                panic!(
+                    "bump exited ({status}) before its window appeared:\n{}",
+                    text()
+                );
+            }
+            assert!(
+                t0.elapsed() < Duration::from_secs(120),
+                "no window appeared in 120 s; bump's log so far:\n{}",
+                text()
+            );
             sleep(Duration::from_millis(200));
         };
         sleep(Duration::from_secs(2)); // first frames (shader compilation on the CPU)
