@@ -135,3 +135,35 @@ fn a_turning_push_slides_past_the_rings() {
         assert!(zs > zt + 2.0, "{degrees}°: slide z {zs} vs touch z {zt}");
     }
 }
+
+/// Slides never carry the drug back against the push: from the first touch
+/// on, every push in random directions from random free starts only gains
+/// ground along the push (legs that turned the motion round used to).
+#[test]
+fn slides_never_go_against_the_push() {
+    let s = scene(RadiiSet::Bondi, ColliderKind::Hashed);
+    let mut rng = bump::rng::Rng(0x51de);
+    let opts = TouchOptions::default();
+    let (mut slid, mut worst) = (0, f64::INFINITY);
+    for _ in 0..400 {
+        let offset = DVec3::new(
+            rng.range(-8.0, 8.0),
+            rng.range(-8.0, 8.0),
+            rng.range(-4.0, 30.0),
+        );
+        let start = s.file_relative(offset);
+        if !s.check(&start).is_empty() {
+            continue;
+        }
+        let push = rng.unit() * rng.range(2.0, 20.0);
+        let end = start.moved(push, DVec3::Z, 0.0);
+        let touch = s.respond(&start, &end, Response::Touch, &opts);
+        let slide = s.respond(&start, &end, Response::Slide, &opts);
+        assert!(s.check(&slide.pose).is_empty());
+        let gained = (slide.pose.translation - touch.pose.translation).dot(push.normalize());
+        worst = worst.min(gained);
+        slid += usize::from(slide.legs > 1);
+    }
+    assert!(slid > 50, "only {slid} pushes slid");
+    assert!(worst >= -1e-9, "a slide lost {worst} Å along its push");
+}

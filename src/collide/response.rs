@@ -11,7 +11,9 @@
 //!   removed by cyclic projection (Gauss–Seidel) in the metric
 //!   `|Δv|² + L²|Δω|²` (`L` the drug's size), then the drug moves to touch
 //!   along what remains. A pure translation is projected as a translation, so
-//!   pushing never makes the drug spin.
+//!   pushing never makes the drug spin. The step's own twist is one more
+//!   constraint of every leg, and a leg with nothing left along it ends the
+//!   slide: the drug never slides back against the push.
 //! - `pass`: move freely and only report contacts (what the thesis's users
 //!   asked for most).
 
@@ -163,6 +165,11 @@ fn slide(
     let mut from = *start;
     let mut to = *end;
     let mut legs = 1;
+    // The step's own direction, as a twist in the projection's coordinates:
+    // every leg is kept from opposing it. Each leg projects the leg before,
+    // so without it a few legs against differently tilted contacts could
+    // turn the motion round and carry the drug back against the push.
+    let mut push: Option<[f64; 6]> = None;
     for _ in 0..SLIDE_ITERATIONS {
         if r.t >= 1.0 || r.contacts.is_empty() {
             break;
@@ -178,7 +185,7 @@ fn slide(
         // coordinates u = (v, L·ω), so sliding does not become spinning.
         let translate_only = screw.angle() == 0.0;
         let l = drug.extent.max(1.0);
-        let rows: Vec<[f64; 6]> = r
+        let mut rows: Vec<[f64; 6]> = r
             .contacts
             .iter()
             .filter_map(|p| {
@@ -195,7 +202,14 @@ fn slide(
                 Some([n.x, n.y, n.z, rn.x, rn.y, rn.z])
             })
             .collect();
-        let u = project_onto_cone([v.x, v.y, v.z, w.x * l, w.y * l, w.z * l], &rows);
+        let x = [v.x, v.y, v.z, w.x * l, w.y * l, w.z * l];
+        let push = *push.get_or_insert(x);
+        rows.push(push);
+        let u = project_onto_cone(x, &rows);
+        // Nothing left along the push (only across it, or none): stop.
+        if dot6(&u, &push) <= 1e-9 * dot6(&u, &u).sqrt() * dot6(&push, &push).sqrt() {
+            break;
+        }
         let mut v = DVec3::new(u[0], u[1], u[2]);
         let mut w = DVec3::new(u[3], u[4], u[5]) / l;
         // A screw turns at most half a turn: a longer one would be taken
