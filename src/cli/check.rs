@@ -52,7 +52,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     });
     let rel = scene
         .file_relative(DVec3::ZERO)
-        .moved(offset, turn.axis, turn.degrees.to_radians());
+        .moved(offset, turn.axis, turn.radians());
     within_range(scene, "--move", &rel)?;
     let (pairs, us) = timed(5, || scene.check(&rel)).context("static check")?;
     let report = CheckReport {

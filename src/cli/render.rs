@@ -123,7 +123,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         commands.push(Command::MoveBy {
             translate: args.translate.unwrap_or(DVec3::ZERO),
             axis: turn.axis,
-            degrees: turn.degrees,
+            degrees: turn.shorter_way(),
         });
     }
     if !args.no_contacts {
@@ -140,7 +140,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         let axis = v.axis.normalize_or(DVec3::Y);
         session
             .camera_mut()
-            .move_scene(DVec3::ZERO, axis * v.degrees.to_radians());
+            .move_scene(DVec3::ZERO, axis * v.radians());
     }
     session.camera_mut().distance /= args.zoom;
     let gpu = Gpu::headless()?;

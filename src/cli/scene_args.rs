@@ -86,6 +86,22 @@ pub struct Turn {
     pub degrees: f64,
 }
 
+impl Turn {
+    /// The angle in degrees within (−180, 180] that turns the same way:
+    /// reduced in full precision, so that 1e20° is the turn it names (in
+    /// radians first, its rounding error would be whole turns). A step's
+    /// screw runs this way, the shorter way round.
+    pub fn shorter_way(&self) -> f64 {
+        let r = self.degrees.rem_euclid(360.0);
+        if r > 180.0 { r - 360.0 } else { r }
+    }
+
+    /// [`Turn::shorter_way`] in radians.
+    pub fn radians(&self) -> f64 {
+        self.shorter_way().to_radians()
+    }
+}
+
 /// Parses `AX,AY,AZ,DEG`.
 pub fn parse_turn(s: &str) -> Result<Turn, String> {
     let v: Vec<f64> = s
@@ -275,4 +291,39 @@ pub fn timed<T>(n: usize, mut f: impl FnMut() -> T) -> anyhow::Result<(T, f64)> 
     times.sort_by(f64::total_cmp);
     let median = times[times.len() / 2];
     out.map(|o| (o, median)).context("no run")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turns_run_the_shorter_way_in_full_precision() {
+        for (asked, runs) in [
+            (0.0, 0.0),
+            (90.0, 90.0),
+            (180.0, 180.0),
+            (-180.0, 180.0),
+            (270.0, -90.0),
+            (-270.0, 90.0),
+            (360.0, 0.0),
+            (725.0, 5.0),
+            (-30.0, -30.0),
+            // Exact: 1e20 = 360·277777777777777777 + 280.
+            (1e20, -80.0),
+            (3.6e19, 0.0),
+        ] {
+            let turn = Turn {
+                axis: DVec3::X,
+                degrees: asked,
+            };
+            assert_eq!(turn.shorter_way(), runs, "{asked}");
+        }
+        let huge = Turn {
+            axis: DVec3::X,
+            degrees: 1e300,
+        };
+        assert!(huge.shorter_way().abs() <= 180.0);
+        assert!(huge.radians().is_finite());
+    }
 }

@@ -95,19 +95,18 @@ struct TouchReport {
     elapsed_us: f64,
 }
 
-/// The angle, in degrees within (−180, 180], that a turn of `degrees`
-/// runs as: the screw between two poses takes the shorter way round.
-fn shorter_way(degrees: f64) -> f64 {
-    let r = degrees.rem_euclid(360.0);
-    if r > 180.0 { r - 360.0 } else { r }
-}
-
 /// Says how a turn of more than half a revolution will run.
-fn warn_long_turn(degrees: f64) {
+fn warn_long_turn(turn: &Turn) {
+    let degrees = turn.degrees;
     if degrees.abs() <= 180.0 {
         return;
     }
-    let runs = shorter_way(degrees);
+    let runs = turn.shorter_way();
+    let degrees = if degrees.abs() < 1e6 {
+        format!("{degrees}")
+    } else {
+        format!("{degrees:e}")
+    };
     if runs == 0.0 {
         eprintln!(
             "bump: warning: --turn of {degrees}° is whole turns: the drug ends as it starts, so the step is only the move"
@@ -134,9 +133,9 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         axis: DVec3::Z,
         degrees: 0.0,
     });
-    warn_long_turn(turn.degrees);
+    warn_long_turn(&turn);
     let start = scene.file_relative(offset);
-    let end = start.moved(args.translate, turn.axis, turn.degrees.to_radians());
+    let end = start.moved(args.translate, turn.axis, turn.radians());
     within_range(scene, "--start", &start)?;
     within_range(scene, "--move", &end)?;
     let tolerance = args.tolerance.max(MIN_TOLERANCE);
@@ -255,26 +254,4 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::shorter_way;
-
-    #[test]
-    fn turns_run_the_shorter_way() {
-        for (asked, runs) in [
-            (0.0, 0.0),
-            (90.0, 90.0),
-            (180.0, 180.0),
-            (-180.0, 180.0),
-            (270.0, -90.0),
-            (-270.0, 90.0),
-            (360.0, 0.0),
-            (725.0, 5.0),
-            (-30.0, -30.0),
-        ] {
-            assert_eq!(shorter_way(asked), runs, "{asked}");
-        }
-    }
 }
