@@ -553,7 +553,7 @@ fn mmcif_atom_site_only(text: &str) -> Option<String> {
 /// a residue number that a chain gives to two different residues.
 fn normalise_pdb(text: &str, label: &str) -> Result<String, LoadError> {
     let mut out = String::with_capacity(text.len() + text.len() / 8);
-    let mut chains = ChainNames::default();
+    let mut chains = ChainNames::new(text);
     for (index, line) in text.lines().enumerate() {
         let at = |reason: String| LoadError::Parse {
             path: label.to_string(),
@@ -595,16 +595,20 @@ fn check_coordinates(line: &str) -> Result<(), String> {
 }
 
 /// Names for blank chain identifiers, as `pdbtbx` gives them (`A`, then the
-/// next letter after each `TER`), except that a residue number coming back
+/// next letter after each `TER`), except that letters a named chain of the
+/// file uses are skipped (`pdbtbx` would put a blank-chain ligand numbered
+/// 16 into residue 16 of chain `A`), and that a residue number coming back
 /// with another residue name also starts a new chain. Files written by
 /// simulation programs (chain blank, segments in columns 73–76) number their
 /// waters from 1 again, and `pdbtbx` would otherwise merge water 7 into
 /// residue 7 of the protein, under the protein residue's name. A chain that
 /// is named in the file and numbers two residues alike is refused instead.
-#[derive(Default)]
 struct ChainNames {
-    /// Letters given to blank chains so far, past the first (`A`).
-    advanced: u8,
+    /// Identifiers blank chains may take, in order: those no named chain of
+    /// the first model uses.
+    free: Vec<u8>,
+    /// Letters given to blank chains so far, past the first.
+    advanced: usize,
     /// Residue (chain, number, insertion code) of the previous atom line.
     previous: Option<[u8; 6]>,
     /// Residue name and first line of each residue seen in this chain run.
@@ -614,6 +618,36 @@ struct ChainNames {
 }
 
 impl ChainNames {
+    /// Chain names for PDB `text`, whose named chains are looked up first.
+    fn new(text: &str) -> Self {
+        let mut taken = [false; 128];
+        for line in text.lines() {
+            if line.starts_with("ENDMDL") {
+                break;
+            }
+            if (line.starts_with("ATOM  ") || line.starts_with("HETATM"))
+                && let Some(&c) = line.as_bytes().get(21)
+            {
+                taken[usize::from(c & 0x7f)] = true;
+            }
+        }
+        let mut free: Vec<u8> = (b'A'..=b'Z')
+            .chain(b'a'..=b'z')
+            .chain(b'0'..=b'9')
+            .filter(|c| !taken[usize::from(*c)])
+            .collect();
+        if free.is_empty() {
+            free = (b'A'..=b'Z').collect();
+        }
+        Self {
+            free,
+            advanced: 0,
+            previous: None,
+            seen: HashMap::new(),
+            done: false,
+        }
+    }
+
     /// Notes a record that is not an atom: `TER` starts a new blank chain,
     /// `ENDMDL` ends the first model.
     fn other_record(&mut self, line: &str) {
@@ -661,7 +695,7 @@ impl ChainNames {
         }
         self.seen.entry(key).or_insert((name, number));
         Ok(if given == b' ' {
-            b'A' + self.advanced % 26
+            self.free[self.advanced % self.free.len()]
         } else {
             given
         })
@@ -1014,6 +1048,42 @@ END
         let l = parse_pdb_text(micro).unwrap();
         assert_eq!(l.structure.atoms.len(), 1);
         assert_eq!(l.structure.atoms[0].residue, "ARG");
+    }
+
+    #[test]
+    fn a_blank_chain_takes_a_letter_no_named_chain_uses() {
+        // Protein in chains A and B (named); a ligand with a blank chain and
+        // a number the protein uses: pdbtbx would put it into ILE A 16.
+        let mut text = String::new();
+        text += &atom_line(1, "N", "ILE", 'A', 16, 0.0);
+        text += &atom_line(2, "CA", "ILE", 'A', 16, 1.5);
+        text += &atom_line(3, "N", "GLY", 'B', 16, 5.0);
+        text += "TER\n";
+        text += &atom_line(4, "C1", "BEN", ' ', 16, 30.0);
+        text += &atom_line(5, "C2", "BEN", ' ', 16, 31.5);
+        let l = parse_pdb_text(&text).unwrap();
+        let ids: Vec<(&str, &str)> = l
+            .structure
+            .atoms
+            .iter()
+            .map(|a| (a.residue.as_str(), a.chain.as_str()))
+            .collect();
+        assert_eq!(
+            ids,
+            [
+                ("ILE", "A"),
+                ("ILE", "A"),
+                ("GLY", "B"),
+                ("BEN", "D"),
+                ("BEN", "D")
+            ]
+        );
+        let (_, drug) = crate::model::split_complex(
+            &l.structure,
+            &crate::model::LigandSpec::parse("BEN").unwrap(),
+        )
+        .unwrap();
+        assert_eq!(drug.len(), 2);
     }
 
     #[test]
