@@ -229,6 +229,14 @@ fn stats_reproduces_table_1_columns() {
     assert!(kept > dropped, "{kept} {dropped}");
     assert_eq!(atoms(&["--keep-hydrogens"]), kept);
     assert_eq!(atoms(&["--hydrogens", "drop", "--radii", "bondi"]), dropped);
+    // Cells so small that counting would take minutes are refused.
+    let out = bump(&["stats", files[0].as_str(), "--cell", "0.11"]);
+    assert_eq!(out.status.code(), Some(2));
+    let e = stderr(&out);
+    assert!(
+        e.contains("4dfr.pdb") && e.contains("choose a larger --cell"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -43,12 +43,28 @@ struct FileRow {
     row: DensityRow,
 }
 
+/// Largest hashed table `--hash-cells` may ask for (a 256 MiB count).
+const MAX_HASH_CELLS: usize = 1 << 26;
+
+/// Most sphere–cell tests one file may cost: about 10 s. The thesis's cell
+/// (one atom diameter) costs at most 27 per atom; a cell of 0.5 Å on the
+/// 272k-atom assembly took 25 s and 2 GB.
+const MAX_CELL_VISITS: f64 = 5e7;
+
+/// Sphere–cell tests that counting `mol` with cells of `cell` Å makes.
+fn cell_visits(mol: &model::Molecule, cell: f32) -> f64 {
+    mol.atoms
+        .iter()
+        .map(|a| (f64::from(2.0 * a.radius / cell).ceil() + 1.0).powi(3))
+        .sum()
+}
+
 /// Runs `bump stats`.
 pub fn run(args: &StatsArgs) -> anyhow::Result<()> {
     let radii = args.radii;
-    if !args.hash_cells.is_power_of_two() {
+    if !args.hash_cells.is_power_of_two() || args.hash_cells > MAX_HASH_CELLS {
         anyhow::bail!(
-            "--hash-cells must be a power of two, got {}",
+            "--hash-cells must be a power of two up to {MAX_HASH_CELLS}, got {}",
             args.hash_cells
         );
     }
@@ -74,6 +90,14 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<()> {
         }
         let mol = receptor_only(&loaded.structure)?;
         let cell = args.cell.unwrap_or_else(|| thesis_cell_size(&mol));
+        let visits = cell_visits(&mol, cell);
+        if visits > MAX_CELL_VISITS {
+            anyhow::bail!(
+                "{}: with {cell} Å cells each atom's sphere would be tested against {:.0} cells on average ({visits:.2e} tests in all, at most {MAX_CELL_VISITS:e}); choose a larger --cell",
+                f.display(),
+                visits / mol.len().max(1) as f64
+            );
+        }
         rows.push(FileRow {
             file: f.display().to_string(),
             row: density(&mol, cell, args.hash_cells),
