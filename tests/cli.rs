@@ -328,6 +328,21 @@ fn bad_input_gets_clear_errors() {
     assert_eq!(out.status.code(), Some(2));
     let e = stderr(&out);
     assert!(e.contains("tiny.pdb: record 2 was asked for"), "{e}");
+    // mmCIF text under a .pdb name, and numbers single precision cannot hold.
+    let cif_as_pdb = dir.join("cif-text.pdb");
+    std::fs::write(&cif_as_pdb, "\ndata_1ABC\n_entry.id 1ABC\n").expect("write");
+    let out = bump(&["stats", cif_as_pdb.to_str().expect("path")]);
+    assert_eq!(out.status.code(), Some(2));
+    let e = stderr(&out);
+    assert!(e.contains("cif-text.pdb:2: this is mmCIF text"), "{e}");
+    for args in [
+        &["check", "--overlap", "1e300"][..],
+        &["check", "--hbond-allowance", "1e-300"][..],
+    ] {
+        let out = bump(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).contains("out of range"), "{}", stderr(&out));
+    }
     let out = bump(&["check", "unknown.xyz"]);
     assert!(stderr(&out).contains("unknown format"), "{}", stderr(&out));
     let _ = std::fs::remove_dir_all(&dir);

@@ -38,10 +38,10 @@ pub struct SceneArgs {
     #[arg(long, default_value = "drop", value_parser = parse_hydrogens)]
     pub hydrogens: Hydrogens,
     /// Overlap r_i + r_j − d (Å) at which a pair collides.
-    #[arg(long, default_value_t = 0.6, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.6, allow_hyphen_values = true, value_parser = parse_f32)]
     pub overlap: f32,
     /// Extra overlap (Å) allowed between two N/O atoms (possible H-bond).
-    #[arg(long, default_value_t = 0.4, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.4, allow_hyphen_values = true, value_parser = parse_f32)]
     pub hbond_allowance: f32,
     /// Collider: brute, grid or hashed.
     #[arg(long, default_value = "hashed", value_parser = parse_collider)]
@@ -62,6 +62,25 @@ pub fn parse_hydrogens(s: &str) -> Result<Hydrogens, String> {
 
 fn parse_collider(s: &str) -> Result<ColliderKind, String> {
     ColliderKind::parse(s).ok_or_else(|| format!("unknown collider `{s}` (brute, grid or hashed)"))
+}
+
+/// Parses a length in Å kept in single precision: a number that single
+/// precision holds (not rounded to 0 or infinity on the way), or NaN, which
+/// the option's own check refuses with its name.
+pub fn parse_f32(s: &str) -> Result<f32, String> {
+    let v: f64 = s.trim().parse().map_err(|e| format!("`{s}`: {e}"))?;
+    let single = v as f32;
+    if v.is_finite() && (single.is_infinite() || (single == 0.0 && v != 0.0)) {
+        return Err(format!(
+            "`{s}` is out of range (at most {:e} in size, and 0 or at least {:e})",
+            f32::MAX,
+            f32::MIN_POSITIVE
+        ));
+    }
+    if v.is_infinite() {
+        return Err(format!("`{s}`: not a finite number"));
+    }
+    Ok(single)
 }
 
 /// Parses `X,Y,Z` into a vector of finite numbers.

@@ -7,7 +7,7 @@ use bump::model::{self, Hydrogens, LoadOptions, RadiiSet, receptor_only};
 use clap::Args;
 use serde::Serialize;
 
-use super::scene_args::{parse_hydrogens, parse_radii};
+use super::scene_args::{parse_f32, parse_hydrogens, parse_radii};
 
 /// Arguments of `bump stats`.
 #[derive(Debug, Args)]
@@ -16,7 +16,7 @@ pub struct StatsArgs {
     #[arg(required = true)]
     files: Vec<PathBuf>,
     /// Cell edge in Å (default: the diameter of the largest atom, as the thesis).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_f32)]
     cell: Option<f32>,
     /// Buckets of the hashed table.
     #[arg(long, default_value_t = THESIS_HASH_CELLS)]

@@ -34,6 +34,14 @@ pub enum LoadError {
         /// What is wrong.
         reason: String,
     },
+    /// Every atom kept was a water's.
+    #[error("{path}: only waters ({waters} atoms), which are never part of a receptor or a drug")]
+    OnlyWaters {
+        /// The file.
+        path: String,
+        /// Water atoms it had.
+        waters: usize,
+    },
     /// A record number was asked of a file that has no records (not SDF).
     #[error(
         "{path}: record {record} was asked for, but only SDF files hold several records; a PDB or mmCIF file is read whole (its first model)"

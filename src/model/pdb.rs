@@ -552,6 +552,18 @@ fn mmcif_atom_site_only(text: &str) -> Option<String> {
 /// number but is not finite or lies beyond [`MAX_FILE_COORDINATE`], and for
 /// a residue number that a chain gives to two different residues.
 fn normalise_pdb(text: &str, label: &str) -> Result<String, LoadError> {
+    if let Some((index, _)) = text
+        .lines()
+        .enumerate()
+        .find(|(_, l)| !l.trim().is_empty())
+        .filter(|(_, l)| l.trim_start().starts_with("data_"))
+    {
+        return Err(LoadError::Parse {
+            path: label.to_string(),
+            line: Some(index + 1),
+            reason: "this is mmCIF text (it opens with data_), read as PDB because of its name; name it .cif".into(),
+        });
+    }
     let mut out = String::with_capacity(text.len() + text.len() / 8);
     let mut chains = ChainNames::new(text);
     for (index, line) in text.lines().enumerate() {

@@ -379,7 +379,8 @@ pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Mole
 /// `"<file> receptor"`.
 ///
 /// # Errors
-/// [`LoadError::NoAtoms`] when only waters (or nothing) remain.
+/// [`LoadError::OnlyWaters`] when only waters remain, [`LoadError::NoAtoms`]
+/// when nothing does.
 pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
     let (atoms, positions): (Vec<_>, Vec<_>) = s
         .atoms
@@ -389,9 +390,16 @@ pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
         .map(|(a, p)| (a.clone(), *p))
         .unzip();
     if atoms.is_empty() {
-        return Err(LoadError::NoAtoms {
-            path: s.name.clone(),
-            dropped_hydrogens: 0,
+        return Err(if s.atoms.is_empty() {
+            LoadError::NoAtoms {
+                path: s.name.clone(),
+                dropped_hydrogens: 0,
+            }
+        } else {
+            LoadError::OnlyWaters {
+                path: s.name.clone(),
+                waters: s.atoms.len(),
+            }
         });
     }
     Ok(Molecule::new(
@@ -627,9 +635,11 @@ mod tests {
                 .collect(),
             positions: vec![glam::DVec3::ZERO; 58],
         };
-        assert!(matches!(
-            receptor_only(&waters),
-            Err(LoadError::NoAtoms { .. })
-        ));
+        let err = receptor_only(&waters).unwrap_err();
+        assert!(matches!(err, LoadError::OnlyWaters { waters: 58, .. }));
+        assert_eq!(
+            err.to_string(),
+            "w.pdb: only waters (58 atoms), which are never part of a receptor or a drug"
+        );
     }
 }
