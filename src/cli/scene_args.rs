@@ -25,7 +25,8 @@ pub struct SceneArgs {
     /// Drug file (SDF, PDB or mmCIF). Without it the drug is split from the
     /// receptor file with --ligand (default: auto).
     pub drug: Option<PathBuf>,
-    /// Drug residue in the receptor file: RESNAME, RESNAME:CHAIN:SEQ (SEQ may end in an insertion code, 52A) or auto.
+    /// Drug residue in the receptor file: RESNAME, RESNAME:CHAIN:SEQ or auto
+    /// (SEQ may end in an insertion code, as in 52A).
     #[arg(long)]
     pub ligand: Option<String>,
     /// SDF record to read from the drug file (1-based).

@@ -141,7 +141,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     let tolerance = args.tolerance.max(MIN_TOLERANCE);
     if tolerance > args.tolerance {
         eprintln!(
-            "warning: --tolerance {} raised to {MIN_TOLERANCE:e} Å: f32 coordinates cannot tell touching from colliding closer than that",
+            "bump: warning: --tolerance {} raised to {MIN_TOLERANCE:e} Å: f32 coordinates cannot tell touching from colliding closer than that",
             args.tolerance
         );
     }

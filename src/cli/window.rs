@@ -22,7 +22,8 @@ use clap::Args;
 /// Options of the docking window.
 #[derive(Debug, Args, Clone, Default)]
 pub struct WindowArgs {
-    /// With one complex file: the drug residue (RESNAME, RESNAME:CHAIN:SEQ (SEQ may end in an insertion code, 52A) or auto).
+    /// With one complex file: the drug residue: RESNAME, RESNAME:CHAIN:SEQ or
+    /// auto (SEQ may end in an insertion code, as in 52A).
     #[arg(long)]
     ligand: Option<String>,
     /// Collider: brute, grid or hashed (default hashed, or the log's).
