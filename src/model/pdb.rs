@@ -42,10 +42,12 @@
 //! atoms are put back in serial order, which is file order in any ordinary file.
 //!
 //! Blank chain identifiers are filled in before `pdbtbx` reads the text, as it
-//! would fill them (`A`, the next letter after each `TER`), and also where a
-//! residue number comes back under another residue name: simulation programs
-//! number their waters from 1 again, and `pdbtbx` would merge each into the
-//! protein residue of that number. Coordinates that are not finite or lie
+//! would fill them (`A`, the next letter after each `TER`) but with letters no
+//! named chain of the file uses (else a blank-chain ligand would join the
+//! named chain's residue of its number), and also where a residue number
+//! comes back under another residue name: simulation programs number their
+//! waters from 1 again, and `pdbtbx` would merge each into the protein residue
+//! of that number. Coordinates that are not finite or lie
 //! beyond [`MAX_FILE_COORDINATE`] are refused with their line.
 
 use std::collections::{HashMap, HashSet};
