@@ -30,10 +30,14 @@ use bump::model::{self, LigandSpec, LoadOptions, Molecule};
 use bump::motion::{Pose, Screw};
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, BenchmarkId, Criterion, criterion_group, criterion_main};
-use glam::{DVec3, Vec3};
-use parry3d::math::{Pose as PPose, Vector};
-use parry3d::query::{self, NonlinearRigidMotion, ShapeCastOptions};
-use parry3d::shape::{Compound, SharedShape};
+use glam::DVec3;
+use parry3d::math::Pose as PPose;
+use parry3d::query::{self, NonlinearRigidMotion};
+
+// The parry3d baseline `bump bench` runs, so both time the same code.
+#[path = "../src/cli/bench/parry.rs"]
+mod parry;
+use parry::{Spheres, pose as ppose};
 
 fn data_dir() -> Option<PathBuf> {
     let d = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb"));
@@ -50,27 +54,6 @@ fn data_dir() -> Option<PathBuf> {
 fn ready(col: Collider) -> Collider {
     col.wait_for_clearance();
     col
-}
-
-/// parry's sphere model of the rule: balls of radius r − overlap/2.
-fn compound(m: &Molecule, rule: &ContactRule) -> Compound {
-    let half = rule.overlap / 2.0;
-    Compound::new(
-        m.local
-            .iter()
-            .zip(&m.atoms)
-            .map(|(p, a)| {
-                (
-                    PPose::from_translation(Vector::new(p.x, p.y, p.z)),
-                    SharedShape::ball((a.radius - half).max(0.01)),
-                )
-            })
-            .collect(),
-    )
-}
-
-fn ppose(p: &Pose) -> PPose {
-    PPose::from_parts(p.translation.as_vec3(), p.rotation.as_quat())
 }
 
 fn fibonacci(n: usize) -> Vec<DVec3> {
@@ -109,47 +92,39 @@ fn approach_queries(
 }
 
 /// Prints how parry3d's cast agrees with the swept method on the same
-/// queries under the same (parry-equivalent) rule.
+/// queries under the same (parry-equivalent) rule, and whether parry's
+/// contact list at the swept method's stop is the swept method's own.
 fn report_parry_agreement(
     label: &str,
     receptor: &Molecule,
     drug: &Molecule,
     rule: &ContactRule,
     queries: &[(Pose, Pose)],
-    rec: &Compound,
-    dr: &Compound,
+    (rec, dr): (&Spheres, &Spheres),
 ) {
     let col = Collider::build(receptor, rule, ColliderKind::Grid);
     let atoms = DrugAtoms::new(drug, rule, col.max_radius());
-    let (mut agree, mut worst, mut zero) = (0, 0.0f64, 0);
+    let opts = TouchOptions::default();
+    let (mut agree, mut worst, mut zero, mut same) = (0, 0.0f64, 0, 0);
     for (s, e) in queries {
-        let ours = move_to_touch(&col, &atoms, s, e, &TouchOptions::default()).t;
-        let d = e.translation - s.translation;
-        let hit = query::cast_shapes(
-            &PPose::IDENTITY,
-            Vector::ZERO,
-            rec,
-            &ppose(s),
-            d.as_vec3(),
-            dr,
-            ShapeCastOptions::with_max_time_of_impact(1.0),
-        );
-        let theirs = match hit {
-            Ok(Some(h)) => f64::from(h.time_of_impact),
-            _ => 1.0,
-        };
+        let ours = move_to_touch(&col, &atoms, s, e, &opts);
+        let theirs = parry::cast(rec, dr, s, e);
         if theirs == 0.0 {
             zero += 1;
         }
-        let err = (ours - theirs).abs() * d.length();
+        let err = (ours.t - theirs).abs() * (e.translation - s.translation).length();
         worst = worst.max(err);
         if err < 1e-2 {
             agree += 1;
         }
+        let pairs: Vec<(u32, u32)> = ours.contacts.iter().map(|p| (p.receptor, p.drug)).collect();
+        if parry::contacts(rec, dr, &ours.pose, opts.tolerance as f32) == pairs {
+            same += 1;
+        }
     }
     eprintln!(
-        "{label}: parry3d agrees with swept (|Δt|·step < 0.01 Å) on {agree}/{} queries, worst {worst:.2e} Å, {zero} at t = 0",
-        queries.len()
+        "{label}: parry3d agrees with swept (|Δt|·step < 0.01 Å) on {agree}/{n} queries, worst {worst:.2e} Å, {zero} at t = 0; same contacts at swept's stop on {same}/{n}",
+        n = queries.len()
     );
 }
 
@@ -213,16 +188,14 @@ fn dhfr(c: &mut Criterion) {
             );
         }
     }
-    let rec = compound(&receptor, &rule);
-    let dr = compound(&drug, &rule);
+    let (rec, dr) = (Spheres::new(&receptor, &rule), Spheres::new(&drug, &rule));
     report_parry_agreement(
         "dhfr_tmp",
         &receptor,
         &drug,
         &parry_rule,
         &queries,
-        &rec,
-        &dr,
+        (&rec, &dr),
     );
     for kind in [ColliderKind::Grid, ColliderKind::Hashed] {
         let col = ready(Collider::build(&receptor, &parry_rule, kind));
@@ -239,9 +212,9 @@ fn dhfr(c: &mut Criterion) {
         b.iter(|| {
             black_box(query::intersection_test(
                 &PPose::IDENTITY,
-                &rec,
+                &rec.compound,
                 &ppose(black_box(&crystal)),
-                &dr,
+                &dr.compound,
             ))
         })
     });
@@ -250,16 +223,15 @@ fn dhfr(c: &mut Criterion) {
         b.iter(|| {
             let (s, e) = &queries[k % queries.len()];
             k += 1;
-            let v: Vec3 = (e.translation - s.translation).as_vec3();
-            black_box(query::cast_shapes(
-                &PPose::IDENTITY,
-                Vector::ZERO,
-                &rec,
-                &ppose(s),
-                v,
-                &dr,
-                ShapeCastOptions::with_max_time_of_impact(1.0),
-            ))
+            black_box(parry::cast(&rec, &dr, s, black_box(e)))
+        })
+    });
+    let mut k = 0;
+    g.bench_function(BenchmarkId::new("touch_1A", "parry3d-contacts"), |b| {
+        b.iter(|| {
+            let (s, e) = &queries[k % queries.len()];
+            k += 1;
+            black_box(parry::touch(&rec, &dr, s, black_box(e), 1e-3))
         })
     });
     // The same steps with a 10° turn about the drug's centre: a screw
@@ -306,7 +278,13 @@ fn dhfr(c: &mut Criterion) {
             let m = &motions[k % motions.len()];
             k += 1;
             black_box(query::cast_shapes_nonlinear(
-                &still, &rec, m, &dr, 0.0, 1.0, true,
+                &still,
+                &rec.compound,
+                m,
+                &dr.compound,
+                0.0,
+                1.0,
+                true,
             ))
         })
     });
@@ -420,8 +398,7 @@ fn scaling(c: &mut Criterion) {
                 });
             }
         }
-        let rec = compound(&receptor, &rule);
-        let dr = compound(&drug, &rule);
+        let (rec, dr) = (Spheres::new(&receptor, &rule), Spheres::new(&drug, &rule));
         let parry_rule = ContactRule::new(rule.overlap, 0.0).unwrap_or(rule);
         report_parry_agreement(
             &format!("scaling {label}"),
@@ -429,8 +406,7 @@ fn scaling(c: &mut Criterion) {
             &drug,
             &parry_rule,
             &[(start, end)],
-            &rec,
-            &dr,
+            (&rec, &dr),
         );
         let col = ready(Collider::build(&receptor, &parry_rule, ColliderKind::Grid));
         let atoms = DrugAtoms::new(&drug, &parry_rule, col.max_radius());
@@ -442,24 +418,17 @@ fn scaling(c: &mut Criterion) {
             b.iter(|| {
                 black_box(query::intersection_test(
                     &PPose::IDENTITY,
-                    &rec,
+                    &rec.compound,
                     &ppose(black_box(&end)),
-                    &dr,
+                    &dr.compound,
                 ))
             })
         });
         g.bench_function(BenchmarkId::new("touch-parry3d", &label), |b| {
-            b.iter(|| {
-                black_box(query::cast_shapes(
-                    &PPose::IDENTITY,
-                    Vector::ZERO,
-                    &rec,
-                    &ppose(&start),
-                    (end.translation - start.translation).as_vec3(),
-                    &dr,
-                    ShapeCastOptions::with_max_time_of_impact(1.0),
-                ))
-            })
+            b.iter(|| black_box(parry::cast(&rec, &dr, &start, black_box(&end))))
+        });
+        g.bench_function(BenchmarkId::new("touch-parry3d-contacts", &label), |b| {
+            b.iter(|| black_box(parry::touch(&rec, &dr, &start, black_box(&end), 1e-3)))
         });
     }
     g.finish();

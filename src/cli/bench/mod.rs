@@ -14,6 +14,8 @@
 
 mod accuracy;
 mod frames;
+#[cfg(feature = "parry")]
+pub mod parry;
 mod scaling;
 mod svg;
 mod table1;
