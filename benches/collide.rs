@@ -4,13 +4,15 @@
 //!   (1268 heavy atoms) from `6xg5_tmp_prepared.pdb`: the static check at the
 //!   crystal pose, and move-to-touch of a 1 Å step (16 directions out of the
 //!   pocket, cycled) at 1e-3 Å tolerance, for each collider, the thesis method
-//!   and parry3d (`intersection_test`, `cast_shapes`); and the same steps
+//!   and parry3d (`intersection_test`; `cast_shapes` alone, and with the
+//!   contact pairs at its stop, which is all move-to-touch answers); and the same steps
 //!   with a 10° turn about the drug's centre (a screw motion) for the grid
 //!   colliders and parry3d's `cast_shapes_nonlinear`.
 //! - `scaling/*`: a 30-atom drug (the receptor's outermost atom and the next
 //!   29, pushed out until free) against receptors from 1.3k to 272k atoms:
 //!   the static check at the end pose and a 1.5 Å move-to-touch back towards
-//!   the surface, for each collider, the thesis method and parry3d.
+//!   the surface, for each collider, the thesis method and parry3d (the cast
+//!   alone, and with contacts).
 //!
 //! parry3d models the rule as balls of radius `r − overlap/2`, which is the
 //! rule without the N/O hydrogen-bond allowance; the `*-parry-rule` rows run
