@@ -93,6 +93,14 @@ fn builtin_scene_docks_by_a_straight_push() {
     let v: Value = serde_json::from_slice(&out.stdout).expect("JSON output");
     assert_eq!(v["tolerance"], 1e-5);
     assert!(stderr(&out).contains("raised to 1e-5"), "{}", stderr(&out));
+    // One so large every pair would be "in contact" is refused, naming it.
+    let out = bump(&["touch", "--move", "0,0,1", "--tolerance", "1e300"]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("--tolerance must be at most 1 Å, got 1e300"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]

@@ -9,7 +9,7 @@ use bump::session::{Command, FrameInput, Session, Settings};
 use clap::Args;
 use glam::DVec3;
 
-use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3};
+use super::scene_args::{SceneArgs, Turn, parse_f32, parse_turn, parse_vec3};
 
 /// Arguments of `bump render`.
 #[derive(Debug, Args)]
@@ -44,7 +44,7 @@ pub struct RenderArgs {
     #[arg(long, default_value = "depth", value_parser = Cues::parse)]
     cue: Cues,
     /// Depth-cueing strength, 0..1 (how far the farthest atoms fade).
-    #[arg(long, default_value_t = 0.6)]
+    #[arg(long, default_value = "0.6", value_parser = parse_f32)]
     depth_strength: f32,
     /// Stereo mode: mono, side-by-side, side-by-side-half, top-bottom,
     /// top-bottom-half, rows, columns, anaglyph, frame-sequential.

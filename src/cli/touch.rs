@@ -41,7 +41,8 @@ pub struct TouchArgs {
     #[arg(long, default_value = "swept", value_parser = parse_method)]
     method: Method,
     /// Distance tolerance of the touch, Å (at least 1e-5: closer than that,
-    /// f32 coordinates cannot tell touching from colliding).
+    /// f32 coordinates cannot tell touching from colliding; at most 1: the
+    /// drug stops within it of contact, so a larger one stops it short).
     #[arg(long, default_value_t = 1e-3)]
     tolerance: f64,
     /// Print JSON.
@@ -118,12 +119,28 @@ fn warn_long_turn(turn: &Turn) {
     }
 }
 
+/// Largest `--tolerance`, Å: a touch stops within the tolerance of contact,
+/// and one larger than the N/O allowance would stop well short of it.
+const MAX_TOLERANCE: f64 = 1.0;
+
 /// Runs `bump touch`.
 pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     if !args.tolerance.is_finite() || args.tolerance <= 0.0 {
         anyhow::bail!(
             "--tolerance must be a positive number of Å, got {}",
             args.tolerance
+        );
+    }
+    if args.tolerance > MAX_TOLERANCE {
+        anyhow::bail!(
+            "--tolerance must be at most {MAX_TOLERANCE} Å, got {}: the drug stops within the \
+             tolerance of contact, so a larger one stops it short of touching",
+            // Exponent form for a huge value, not a few hundred digits.
+            if args.tolerance < 1e6 {
+                args.tolerance.to_string()
+            } else {
+                format!("{:e}", args.tolerance)
+            }
         );
     }
     let loaded = args.scene.load()?;

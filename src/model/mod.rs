@@ -55,6 +55,10 @@ pub struct Structure {
     pub atoms: Vec<AtomInfo>,
     /// File coordinates, same order as `atoms`.
     pub positions: Vec<DVec3>,
+    /// Residues none of whose atoms were kept because all were hydrogens
+    /// (dropped by default), as (name, `chain/seq`), in file order: so that
+    /// asking for one as the ligand can say why it is not there.
+    pub hydrogen_only: Vec<(String, String)>,
 }
 
 /// A loaded structure with the reader's warnings (messages for the user,

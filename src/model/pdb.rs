@@ -193,14 +193,37 @@ fn parse_text(
     opts: &LoadOptions,
 ) -> Result<Loaded, LoadError> {
     let normalised;
+    // For a cut-out atom_site loop: the original line of each of its lines.
+    let mut cut_from: Option<Vec<usize>> = None;
     let input = if matches!(format, Format::Pdb) {
         normalised = normalise_pdb(text, label)?;
         normalised.as_str()
-    } else if let Some(atoms_only) = mmcif_atom_site_only(text) {
+    } else if let Some((atoms_only, from)) = mmcif_atom_site_only(text) {
         normalised = atoms_only;
+        cut_from = Some(from);
         normalised.as_str()
     } else {
         text
+    };
+    // When pdbtbx refuses a cut-out loop, say what is wrong in the file's
+    // own line numbers (pdbtbx's would count the cut-out's lines).
+    let refused = |error: LoadError| match &cut_from {
+        None => error,
+        Some(from) => match diagnose_atom_site(input, from) {
+            Some((line, reason)) => LoadError::Parse {
+                path: label.to_string(),
+                line: Some(line),
+                reason,
+            },
+            None => match error {
+                LoadError::Parse { path, line, reason } => LoadError::Parse {
+                    path,
+                    line: line.and_then(|l| from.get(l.checked_sub(1)?).copied()),
+                    reason,
+                },
+                other => other,
+            },
+        },
     };
     let mut read_options = ReadOptions::new();
     read_options
@@ -223,7 +246,7 @@ fn parse_text(
                     dropped_hydrogens: 0,
                 });
             }
-            return Err(fatal_error(label, &errors));
+            return Err(refused(fatal_error(label, &errors)));
         }
         Err(panic) => {
             let what = panic
@@ -231,11 +254,11 @@ fn parse_text(
                 .map(|s| (*s).to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown failure".to_string());
-            return Err(LoadError::Parse {
+            return Err(refused(LoadError::Parse {
                 path: label.to_string(),
                 line: None,
                 reason: format!("the PDB/mmCIF parser gave up: {what}"),
-            });
+            }));
         }
     };
 
@@ -244,6 +267,9 @@ fn parse_text(
     let mut atoms = Vec::new();
     let mut positions = Vec::new();
     let mut dropped = 0;
+    // (chain, seq, insertion code, name) of each dropped hydrogen's residue.
+    let mut dropped_from = Vec::new();
+    let mut hydrogen_only = Vec::new();
     if let Some(model) = pdb.model(0) {
         let mut sites = Vec::new();
         for chain in model.chains() {
@@ -275,6 +301,7 @@ fn parse_text(
             );
             if opts.hydrogens == Hydrogens::Drop && element::is_hydrogen(&element) {
                 dropped += 1;
+                dropped_from.push((site.chain, site.seq, site.insertion, site.residue));
                 continue;
             }
             let radius = lookup.radius(&element);
@@ -305,6 +332,7 @@ fn parse_text(
             }
             positions.push(p);
         }
+        hydrogen_only = residues_without(&atoms, dropped_from);
     }
     if atoms.is_empty() {
         return Err(LoadError::NoAtoms {
@@ -318,9 +346,42 @@ fn parse_text(
             name: name.to_string(),
             atoms,
             positions,
+            hydrogen_only,
         },
         warnings,
     })
+}
+
+/// The residues among `dropped` (one entry per dropped atom: chain, seq,
+/// insertion code, name) that kept no atom in `atoms`, as (name,
+/// `chain/seq`), once each, in first-seen order.
+fn residues_without(
+    atoms: &[AtomInfo],
+    dropped: Vec<(&str, isize, &str, &str)>,
+) -> Vec<(String, String)> {
+    if dropped.is_empty() {
+        return Vec::new();
+    }
+    let kept: std::collections::HashSet<(&str, i64, &str, &str)> = atoms
+        .iter()
+        .map(|a| {
+            (
+                a.chain.as_str(),
+                a.seq,
+                a.insertion.as_str(),
+                a.residue.as_str(),
+            )
+        })
+        .collect();
+    let mut seen = std::collections::HashSet::new();
+    let mut out = Vec::new();
+    for (chain, seq, insertion, name) in dropped {
+        let key = (chain, i64::try_from(seq).unwrap_or(0), insertion, name);
+        if !kept.contains(&key) && seen.insert(key) {
+            out.push((name.to_string(), format!("{chain}/{seq}{insertion}")));
+        }
+    }
+    out
 }
 
 thread_local! {
@@ -483,18 +544,20 @@ fn parser_warning_lines(label: &str, warnings: &[PDBError]) -> Vec<String> {
     out
 }
 
-/// The first data block's `_atom_site` loop alone, as mmCIF text, or `None`
+/// The first data block's `_atom_site` loop alone, as mmCIF text, with the
+/// 1-based line of the original text each of its lines came from; or `None`
 /// when it cannot be cut out simply (no such loop, or a `;` text field in it),
 /// in which case the whole text goes to `pdbtbx`.
-fn mmcif_atom_site_only(text: &str) -> Option<String> {
-    let mut lines = text.lines().map(str::trim);
-    let data = lines.by_ref().find(|l| l.starts_with("data_"))?;
+fn mmcif_atom_site_only(text: &str) -> Option<(String, Vec<usize>)> {
+    let mut lines = text.lines().map(str::trim).enumerate();
+    let (data_at, data) = lines.by_ref().find(|(_, l)| l.starts_with("data_"))?;
     let mut out = String::with_capacity(text.len() / 2);
+    let mut from = vec![data_at + 1, data_at + 1];
     out.push_str(data);
     out.push_str("\nloop_\n");
     let mut in_loop = false;
     let mut header = false;
-    for line in lines {
+    for (at, line) in lines {
         let lower_start = |p: &str| {
             line.get(..p.len())
                 .is_some_and(|s| s.eq_ignore_ascii_case(p))
@@ -506,6 +569,7 @@ fn mmcif_atom_site_only(text: &str) -> Option<String> {
             if line.eq_ignore_ascii_case("loop_") {
                 in_loop = true;
                 header = true;
+                from[1] = at + 1;
             }
             continue;
         }
@@ -513,6 +577,7 @@ fn mmcif_atom_site_only(text: &str) -> Option<String> {
             if lower_start("_atom_site.") {
                 out.push_str(line);
                 out.push('\n');
+                from.push(at + 1);
                 continue;
             }
             if !out.ends_with("loop_\n") {
@@ -520,6 +585,9 @@ fn mmcif_atom_site_only(text: &str) -> Option<String> {
             } else {
                 // Another category's loop: look for the next one.
                 in_loop = line.eq_ignore_ascii_case("loop_");
+                if in_loop {
+                    from[1] = at + 1;
+                }
                 continue;
             }
         }
@@ -538,12 +606,100 @@ fn mmcif_atom_site_only(text: &str) -> Option<String> {
         }
         out.push_str(line);
         out.push('\n');
+        from.push(at + 1);
     }
     if out.ends_with("loop_\n") {
         None
     } else {
-        Some(out)
+        Some((out, from))
     }
+}
+
+/// The values of one line of CIF data: whitespace-separated, a value that
+/// opens with a quote running to the same quote followed by a blank (or the
+/// line's end), a `#` outside quotes starting a comment.
+fn cif_values(line: &str) -> Vec<&str> {
+    let bytes = line.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i].is_ascii_whitespace() {
+            i += 1;
+            continue;
+        }
+        if bytes[i] == b'#' {
+            break;
+        }
+        let start = i;
+        if bytes[i] == b'\'' || bytes[i] == b'"' {
+            let quote = bytes[i];
+            i += 1;
+            while i < bytes.len()
+                && !(bytes[i] == quote && bytes.get(i + 1).is_none_or(|b| b.is_ascii_whitespace()))
+            {
+                i += 1;
+            }
+            i = (i + 1).min(bytes.len());
+        } else {
+            while i < bytes.len() && !bytes[i].is_ascii_whitespace() {
+                i += 1;
+            }
+        }
+        out.push(line.get(start..i).unwrap_or_default());
+    }
+    out
+}
+
+/// What is wrong with a cut-out `_atom_site` loop ([`mmcif_atom_site_only`])
+/// that `pdbtbx` refused, said with the original line: a row with the wrong
+/// number of values (when rows are one per line, as every mmCIF writer puts
+/// them), or a coordinate that is not a number. `None` when neither is found.
+fn diagnose_atom_site(cut: &str, from: &[usize]) -> Option<(usize, String)> {
+    let mut columns: Vec<&str> = Vec::new();
+    let mut rows: Vec<(usize, Vec<&str>)> = Vec::new();
+    for (k, line) in cut.lines().enumerate().skip(2) {
+        let at = from.get(k).copied().unwrap_or(0);
+        if let Some(name) = line.strip_prefix("_atom_site.") {
+            columns.push(name.trim());
+        } else {
+            let values = cif_values(line);
+            if !values.is_empty() {
+                rows.push((at, values));
+            }
+        }
+    }
+    let n = columns.len();
+    let full = rows.iter().filter(|(_, v)| v.len() == n).count();
+    if n > 0
+        && 2 * full >= rows.len()
+        && let Some((at, v)) = rows.iter().find(|(_, v)| v.len() != n)
+    {
+        return Some((
+            *at,
+            format!(
+                "this _atom_site row has {} values; the loop has {n} columns",
+                v.len()
+            ),
+        ));
+    }
+    let column = |name: &str| columns.iter().position(|c| c.eq_ignore_ascii_case(name));
+    let id = column("id");
+    for axis in ["Cartn_x", "Cartn_y", "Cartn_z"] {
+        let Some(c) = column(axis) else {
+            return Some((
+                from.get(1).copied().unwrap_or(0),
+                format!("the _atom_site loop has no {axis} column"),
+            ));
+        };
+        for (at, v) in rows.iter().filter(|(_, v)| v.len() == n) {
+            let value = v[c];
+            if value.parse::<f64>().is_err() {
+                let atom = id.map_or(String::new(), |i| format!(" of atom {}", v[i]));
+                return Some((*at, format!("{axis}{atom} is not a number: {value:?}")));
+            }
+        }
+    }
+    None
 }
 
 /// Normalises the `ATOM`/`HETATM` lines of PDB text (see the module docs);
@@ -1101,6 +1257,32 @@ END
     }
 
     #[test]
+    fn a_hydrogen_only_ligand_says_its_atoms_were_dropped() {
+        let mut text = String::new();
+        text += &atom_line(1, "N", "ALA", 'A', 1, 0.0);
+        text += &atom_line(2, "H", "ALA", 'A', 1, 1.0);
+        text += &atom_line(3, "H1", "HHH", 'A', 2, 9.0);
+        text += &atom_line(4, "H2", "HHH", 'A', 2, 9.7);
+        let l = parse_pdb_text(&text).unwrap();
+        // ALA kept its nitrogen, so only HHH is listed, once.
+        assert_eq!(
+            l.structure.hydrogen_only,
+            [("HHH".to_string(), "A/2".to_string())]
+        );
+        let err = crate::model::split_complex(
+            &l.structure,
+            &crate::model::LigandSpec::parse("hhh").unwrap(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("residue HHH (A/2) has only hydrogen atoms")
+                && err.contains("--hydrogens keep"),
+            "{err}"
+        );
+    }
+
+    #[test]
     fn a_named_chain_reusing_a_residue_number_is_refused_with_its_line() {
         let mut text = String::new();
         text += &atom_line(1, "N", "ALA", 'A', 1, 0.0);
@@ -1226,12 +1408,96 @@ END
     #[test]
     fn atom_site_loop_is_cut_out() {
         let text = "data_X\n#\nloop_\n_cell.a\n1\n#\nloop_\n_atom_site.id\n_atom_site.x\n1 2.0\n2 3.0\n#\n_other.a 1\n";
-        let cut = mmcif_atom_site_only(text).unwrap();
+        let (cut, from) = mmcif_atom_site_only(text).unwrap();
         assert_eq!(
             cut,
             "data_X\nloop_\n_atom_site.id\n_atom_site.x\n1 2.0\n2 3.0\n"
         );
+        // The original line of each line of the cut-out.
+        assert_eq!(from, [1, 7, 8, 9, 10, 11]);
         assert!(mmcif_atom_site_only("data_X\nloop_\n_cell.a\n1\n").is_none());
+    }
+
+    #[test]
+    fn cif_values_keep_quoted_values_whole() {
+        assert_eq!(
+            cif_values("ATOM 1 O \"O5'\" . 'A B' 1.0 # note"),
+            ["ATOM", "1", "O", "\"O5'\"", ".", "'A B'", "1.0"]
+        );
+        assert_eq!(cif_values("  "), Vec::<&str>::new());
+    }
+
+    /// A small mmCIF file with `rows` as its atom_site rows, from line 20.
+    fn mmcif_with_rows(rows: &[&str]) -> String {
+        let mut text = String::from("data_T\n#\n_entry.id T\n#\nloop_\n");
+        for c in [
+            "group_PDB",
+            "id",
+            "type_symbol",
+            "label_atom_id",
+            "label_alt_id",
+            "label_comp_id",
+            "label_asym_id",
+            "label_entity_id",
+            "label_seq_id",
+            "pdbx_PDB_ins_code",
+            "Cartn_x",
+            "Cartn_y",
+            "Cartn_z",
+            "occupancy",
+        ] {
+            text += &format!("_atom_site.{c}\n");
+        }
+        for r in rows {
+            text += r;
+            text += "\n";
+        }
+        text
+    }
+
+    fn mmcif_error(text: &str) -> (Option<usize>, String) {
+        match parse_text(
+            text,
+            Format::Mmcif,
+            "t.cif",
+            "t.cif",
+            &LoadOptions::default(),
+        ) {
+            Err(LoadError::Parse { line, reason, .. }) => (line, reason),
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn mmcif_row_errors_name_the_files_line() {
+        let good = "ATOM 1 N N . ALA A 1 1 ? 1.0 2.0 3.0 1.0";
+        assert!(
+            parse_text(
+                &mmcif_with_rows(&[good]),
+                Format::Mmcif,
+                "t.cif",
+                "t.cif",
+                &LoadOptions::default()
+            )
+            .is_ok()
+        );
+        // A short row: its own line (21), not the loop's.
+        let (line, reason) = mmcif_error(&mmcif_with_rows(&[
+            good,
+            "ATOM 2 C CA . ALA A 1 1 ? 2.0 3.0",
+        ]));
+        assert_eq!(line, Some(21), "{reason}");
+        assert!(
+            reason.contains("has 12 values; the loop has 14 columns"),
+            "{reason}"
+        );
+        // A coordinate that is not a number, named with its atom.
+        let (line, reason) = mmcif_error(&mmcif_with_rows(&[
+            good,
+            "ATOM 2 C CA . ALA A 1 1 ? abc 3.0 4.0 1.0",
+        ]));
+        assert_eq!(line, Some(21), "{reason}");
+        assert_eq!(reason, "Cartn_x of atom 2 is not a number: \"abc\"");
     }
 
     #[test]

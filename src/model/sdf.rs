@@ -144,6 +144,7 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
             name: file_name(Path::new(path_label)),
             atoms,
             positions,
+            hydrogen_only: Vec::new(),
         },
         warnings,
     })
@@ -264,6 +265,19 @@ impl Record<'_> {
     ) -> Result<(String, DVec3), LoadError> {
         if let Some(atom) = fixed_v2000_atom(line) {
             return Ok(atom);
+        }
+        if fixed_v2000_coords(line).is_some()
+            && line
+                .get(31..line.len().min(34))
+                .is_none_or(|f| f.trim().is_empty())
+        {
+            return Err(self.err(
+                i,
+                format!(
+                    "atom {} of {n_atoms} has no element symbol (columns 32–34 are blank)",
+                    k + 1
+                ),
+            ));
         }
         let fields: Vec<&str> = line.split_whitespace().collect();
         if fields.len() < 4 {
@@ -421,18 +435,24 @@ impl Record<'_> {
 
 /// A V2000 atom line read by its fixed columns, if it fits them.
 fn fixed_v2000_atom(line: &str) -> Option<(String, DVec3)> {
+    let pos = fixed_v2000_coords(line)?;
+    let symbol = line.get(31..line.len().min(34))?.trim();
+    if symbol.is_empty() || symbol.contains(char::is_whitespace) {
+        return None;
+    }
+    Some((symbol.to_string(), pos))
+}
+
+/// The coordinates of a V2000 atom line in its fixed columns (1–10, 11–20,
+/// 21–30), when all three are finite numbers in range.
+fn fixed_v2000_coords(line: &str) -> Option<DVec3> {
     let num = |r: std::ops::Range<usize>| {
         line.get(r)
             .and_then(|f| f.trim().parse::<f64>().ok())
             // Anything else is read (and refused, naming it) field by field.
             .filter(|v| v.is_finite() && v.abs() <= MAX_FILE_COORDINATE)
     };
-    let (x, y, z) = (num(0..10)?, num(10..20)?, num(20..30)?);
-    let symbol = line.get(31..line.len().min(34))?.trim();
-    if symbol.is_empty() || symbol.contains(char::is_whitespace) {
-        return None;
-    }
-    Some((symbol.to_string(), DVec3::new(x, y, z)))
+    Some(DVec3::new(num(0..10)?, num(10..20)?, num(20..30)?))
 }
 
 /// True when a line reads as a V2000 atom line (three numbers with a decimal
@@ -661,6 +681,29 @@ $$$$
             }
         ));
         assert!(e.to_string().contains("--hydrogens keep"), "{e}");
+    }
+
+    #[test]
+    fn a_blank_element_column_is_named_as_such() {
+        let text = "\n  test\n\n  2  0  0  0  0  0  0  0  0  0999 V2000\n    \
+0.0000    0.0000    0.0000     0  0  0  0  0  0  0  0  0  0  0  0\n    \
+1.5000    0.0000    0.0000 C   0  0  0  0  0  0  0  0  0  0  0  0\nM  END\n$$$$\n";
+        match parse(text) {
+            Err(LoadError::Parse { line, reason, .. }) => {
+                assert_eq!(line, Some(5));
+                assert!(
+                    reason.contains("atom 1 of 2 has no element symbol"),
+                    "{reason}"
+                );
+            }
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+        // A line cut short after the coordinates says the same.
+        let short = text.replacen("0.0000     0  0  0  0  0  0  0  0  0  0  0  0", "0.0000", 1);
+        assert!(
+            matches!(parse(&short), Err(LoadError::Parse { line: Some(5), reason, .. })
+            if reason.contains("has no element symbol"))
+        );
     }
 
     #[test]

@@ -320,7 +320,21 @@ fn pick(s: &Structure, groups: &[Group<'_>], spec: &LigandSpec) -> Result<usize,
             }
             let copies: Vec<String> = groups.iter().filter(same_name).map(Group::label).collect();
             if copies.is_empty() {
-                Err(fail(format!("no residue named {name}; {}", present())))
+                let hydrogen_only: Vec<&str> = s
+                    .hydrogen_only
+                    .iter()
+                    .filter(|(n, _)| n.eq_ignore_ascii_case(name))
+                    .map(|(_, at)| at.as_str())
+                    .collect();
+                if hydrogen_only.is_empty() {
+                    Err(fail(format!("no residue named {name}; {}", present())))
+                } else {
+                    Err(fail(format!(
+                        "residue {name} ({}) has only hydrogen atoms, which are dropped by \
+                         default (--hydrogens keep keeps them)",
+                        hydrogen_only.join(", ")
+                    )))
+                }
             } else {
                 Err(fail(format!(
                     "no residue {spec}; copies of {name} present: {}",
@@ -634,6 +648,7 @@ mod tests {
                 .cloned()
                 .collect(),
             positions: vec![glam::DVec3::ZERO; 58],
+            hydrogen_only: Vec::new(),
         };
         let err = receptor_only(&waters).unwrap_err();
         assert!(matches!(err, LoadError::OnlyWaters { waters: 58, .. }));
