@@ -266,11 +266,17 @@ impl Record<'_> {
         if let Some(atom) = fixed_v2000_atom(line) {
             return Ok(atom);
         }
-        if fixed_v2000_coords(line).is_some()
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        // Coordinates in their columns and a blank symbol field, with no
+        // symbol further on either: say so, rather than "not a symbol".
+        let no_symbol = fields
+            .get(3)
+            .is_none_or(|f| !f.starts_with(|c: char| c.is_ascii_alphabetic() || c == '*'))
+            && fixed_v2000_coords(line).is_some()
             && line
                 .get(31..line.len().min(34))
-                .is_none_or(|f| f.trim().is_empty())
-        {
+                .is_none_or(|f| f.trim().is_empty());
+        if no_symbol {
             return Err(self.err(
                 i,
                 format!(
@@ -279,7 +285,6 @@ impl Record<'_> {
                 ),
             ));
         }
-        let fields: Vec<&str> = line.split_whitespace().collect();
         if fields.len() < 4 {
             return Err(self.err(
                 i,
@@ -704,6 +709,10 @@ $$$$
             matches!(parse(&short), Err(LoadError::Parse { line: Some(5), reason, .. })
             if reason.contains("has no element symbol"))
         );
+        // A symbol written a few columns late is still read.
+        let late = text.replacen("0.0000     0  0", "0.0000      N  0", 1);
+        let l = parse(&late).unwrap();
+        assert_eq!(l.structure.atoms[0].element, "N");
     }
 
     #[test]
