@@ -4,6 +4,9 @@
 //! numerical stress cases. Worst errors are printed (`--nocapture`).
 
 mod common;
+// The parry3d baseline the benchmarks time, checked here against bump.
+#[path = "../src/cli/bench/parry.rs"]
+mod parry;
 
 use bump::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, move_to_touch,
@@ -150,68 +153,58 @@ fn screw_motions_match_a_dense_search() {
 
 #[test]
 fn agrees_with_parry3d_shape_casts() {
-    use parry3d::math::{Pose as PPose, Vector};
-    use parry3d::query::{self, NonlinearRigidMotion, ShapeCastOptions};
-    use parry3d::shape::{Compound, SharedShape};
+    use parry3d::math::Pose as PPose;
+    use parry3d::query::{self, NonlinearRigidMotion};
 
     // parry's balls of radius r − 0.3 touch exactly where the rule's
-    // non-polar contact is (overlap 0.6); polar atoms are left out.
-    let compound = |m: &Molecule| {
-        Compound::new(
-            m.local
-                .iter()
-                .zip(&m.atoms)
-                .map(|(p, a)| {
-                    (
-                        PPose::from_translation(Vector::new(p.x, p.y, p.z)),
-                        SharedShape::ball(a.radius - 0.3),
-                    )
-                })
-                .collect(),
-        )
-    };
+    // non-polar contact is (overlap 0.6); polar atoms are left out. The
+    // model and the casts are the benchmarks' own (`parry::Spheres`).
+    let rule = ContactRule::default();
     let mut rng = Rng(0xabc);
     let (mut worst_lin, mut worst_rot, mut n_lin, mut n_rot) = (0.0f64, 0.0f64, 0, 0);
+    let (mut same_contacts, mut with_contacts) = (0, 0);
     for case in 0..60 {
-        let s = setup(&mut rng, 200, 10, false, ContactRule::default());
-        let rec = compound(&s.receptor);
-        let dr = compound(&s.drug);
+        let s = setup(&mut rng, 200, 10, false, rule);
+        let rec = parry::Spheres::new(&s.receptor, &rule);
+        let dr = parry::Spheres::new(&s.drug, &rule);
         let rotate = case % 2 == 1;
         let (start, end) = random_query(&mut rng, &s, rotate);
         let r = move_to_touch(&s.cols[2], &s.atoms, &start, &end, &TouchOptions::default());
-        let to_p = |p: &Pose| {
-            let q = p.rotation.as_quat();
-            PPose::from_parts(p.translation.as_vec3(), q)
-        };
         let screw = Screw::between(start, end);
         let smax = max_speed(&s.atoms, &screw);
+        // The baseline's contact list, at bump's stop, is bump's own.
+        let ours_pairs: Vec<(u32, u32)> = r.contacts.iter().map(|p| (p.receptor, p.drug)).collect();
+        if !ours_pairs.is_empty() {
+            with_contacts += 1;
+            if parry::contacts(&rec, &dr, &r.pose, 1e-3) == ours_pairs {
+                same_contacts += 1;
+            }
+        }
         let parry_t = if !rotate {
-            let v = (end.translation - start.translation).as_vec3();
-            query::cast_shapes(
-                &PPose::IDENTITY,
-                Vector::ZERO,
-                &rec,
-                &to_p(&start),
-                v,
-                &dr,
-                ShapeCastOptions::with_max_time_of_impact(1.0),
-            )
-            .expect("supported")
-            .map(|h| f64::from(h.time_of_impact))
+            let (t, _) = parry::touch(&rec, &dr, &start, &end, 1e-3);
+            (t < 1.0).then_some(t)
         } else {
             // A screw is parry's nonlinear motion about a point on the screw axis.
             let a = screw.axis_point().expect("rotating");
             let local_a = start.inverse().transform_point(a).as_vec3();
             let motion = NonlinearRigidMotion::new(
-                to_p(&start),
+                parry::pose(&start),
                 local_a,
                 screw.slide().as_vec3(),
                 (screw.axis() * screw.angle()).as_vec3(),
             );
             let still = NonlinearRigidMotion::constant_position(PPose::IDENTITY);
-            query::cast_shapes_nonlinear(&still, &rec, &motion, &dr, 0.0, 1.0, true)
-                .expect("supported")
-                .map(|h| f64::from(h.time_of_impact))
+            query::cast_shapes_nonlinear(
+                &still,
+                &rec.compound,
+                &motion,
+                &dr.compound,
+                0.0,
+                1.0,
+                true,
+            )
+            .expect("supported")
+            .map(|h| f64::from(h.time_of_impact))
         };
         let ours = (r.t < 1.0).then_some(r.t);
         match (ours, parry_t) {
@@ -237,10 +230,12 @@ fn agrees_with_parry3d_shape_casts() {
         }
     }
     println!(
-        "parry3d: {n_lin} translations, worst |Δt|·speed {worst_lin:.2e} Å; {n_rot} screws, worst {worst_rot:.2e} Å"
+        "parry3d: {n_lin} translations, worst |Δt|·speed {worst_lin:.2e} Å; {n_rot} screws, worst {worst_rot:.2e} Å; same contacts at bump's stop {same_contacts}/{with_contacts}"
     );
     assert!(worst_lin < 0.05 && worst_rot < 0.05);
     assert!(n_lin + n_rot > 20);
+    assert!(with_contacts > 20);
+    assert_eq!(same_contacts, with_contacts);
 }
 
 /// A one-atom-thick wall of carbon at z = 0, 40 × 40 Å.

@@ -1,6 +1,7 @@
 //! parry3d as the move-to-touch baseline, shared by `bump bench` (built with
-//! `--features parry`) and the criterion bench `benches/collide.rs` (which
-//! includes this file by path), so both time the same code.
+//! `--features parry`), the criterion bench `benches/collide.rs` and the
+//! test `tests/move_to_touch.rs` (both include this file by path), so the
+//! benchmarks time the code the test checks against bump.
 //!
 //! The contact rule becomes parry's sphere model: a `Compound` of balls of
 //! radius `r − overlap/2`, which is the rule without the N/O hydrogen-bond
