@@ -10,7 +10,7 @@
 mod common;
 
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::thread::sleep;
 use std::time::{Duration, Instant};
 
@@ -18,12 +18,13 @@ use common::x11::{screen, taps, xdotool};
 
 #[test]
 fn docking_in_a_real_window_shows_the_hud_and_highlights() {
-    let Some(x) = screen(50) else { return };
+    let Some(mut x) = screen("window") else {
+        return;
+    };
     let display = x.display.clone();
     let runtime = x.runtime.clone();
     let log = runtime.join("bump.log");
-    let mut app = x.launch(&["/nonexistent/receptor.pdb"], &log, Stdio::null());
-    x.window(&mut app, &log);
+    let mut app = x.open(&["/nonexistent/receptor.pdb"], &log, false);
     taps(&display, "space", 1); // object mode
     sleep(Duration::from_millis(300));
     taps(&display, "c", 1); // collision on

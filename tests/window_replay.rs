@@ -15,13 +15,14 @@ use common::x11::{finish, screen, taps, xdotool};
 
 #[test]
 fn a_window_recording_replays_bit_for_bit_headless_and_in_a_window() {
-    let Some(x) = screen(20) else { return };
+    let Some(mut x) = screen("window-replay") else {
+        return;
+    };
     let d = x.display.clone();
     let rec = x.runtime.join("session.bumplog");
     let rec_s = rec.to_str().expect("path").to_string();
     let log = x.runtime.join("record.log");
-    let mut app = x.launch(&["--record", &rec_s], &log, Stdio::piped());
-    x.window(&mut app, &log);
+    let mut app = x.open(&["--record", &rec_s], &log, true);
     taps(&d, "space", 1); // object mode
     sleep(Duration::from_millis(200));
     taps(&d, "c", 1); // collision on

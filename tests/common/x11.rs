@@ -48,7 +48,7 @@ pub struct Screen {
     pub display: String,
     /// XDG_RUNTIME_DIR for the program; logs and screenshots go here.
     pub runtime: PathBuf,
-    _xvfb: Kill,
+    xvfb: Kill,
 }
 
 impl Drop for Screen {
@@ -57,9 +57,19 @@ impl Drop for Screen {
     }
 }
 
-/// Starts Xvfb on a display derived from `offset` and the process id, or
-/// `None` (with a message; a failure under CI) when a tool is missing.
-pub fn screen(offset: u32) -> Option<Screen> {
+/// Starts Xvfb on a display of its own choosing, with a runtime folder
+/// named after `tag`, or `None` (with a message; a failure under CI) when a
+/// tool is missing.
+///
+/// Xvfb picks the display itself (`-displayfd`) and names it only once it
+/// listens on all its sockets. Choosing a number here and polling it could
+/// let a server that was not ours answer the readiness check (one holding
+/// that display's abstract socket, seen by every process in the same network
+/// namespace whatever its /tmp) and then leave the program with nothing to
+/// connect to: once, in CI, the check passed and the program found no
+/// server. `-noreset` keeps the server from regenerating when the check's
+/// connection closes, just before the program connects.
+pub fn screen(tag: &str) -> Option<Screen> {
     for tool in ["Xvfb", "xdotool", "import"] {
         if !have(tool) {
             assert!(
@@ -70,61 +80,84 @@ pub fn screen(offset: u32) -> Option<Screen> {
             return None;
         }
     }
-    // A display taken by another server makes Xvfb exit: try the next.
-    let first = offset + std::process::id() % 200;
-    let (display, xvfb) = (first..first + 20)
-        .find_map(|n| {
-            let display = format!(":{n}");
-            let mut xvfb = Kill(
-                Command::new("Xvfb")
-                    .args([
-                        display.as_str(),
-                        "-screen",
-                        "0",
-                        "1280x800x24",
-                        "-nolisten",
-                        "tcp",
-                    ])
-                    .stdout(Stdio::null())
-                    .stderr(Stdio::null())
-                    .spawn()
-                    .expect("Xvfb"),
-            );
-            accepts_clients(&display, &mut xvfb).then_some((display, xvfb))
-        })
-        .expect("no free X display for Xvfb");
-    let runtime = std::env::temp_dir().join(format!("bump-xdg-{offset}-{}", std::process::id()));
+    let runtime = std::env::temp_dir().join(format!("bump-xdg-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&runtime).expect("runtime dir");
+    let xlog = runtime.join("xvfb.log");
+    let mut xvfb = Kill(
+        Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1280x800x24",
+                "-nolisten",
+                "tcp",
+                "-noreset",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(std::fs::File::create(&xlog).expect("Xvfb log"))
+            .spawn()
+            .expect("Xvfb"),
+    );
+    let number = read_display_number(&mut xvfb);
+    let log = || std::fs::read_to_string(&xlog).unwrap_or_default();
+    let Some(number) = number else {
+        panic!("Xvfb named no display in 30 s; its log:\n{}", log());
+    };
+    let display = format!(":{number}");
+    assert!(
+        accepts_clients(&display, &mut xvfb),
+        "Xvfb on {display} takes no connections; its log:\n{}",
+        log()
+    );
     Some(Screen {
         display,
         runtime,
-        _xvfb: xvfb,
+        xvfb,
     })
 }
 
-/// Waits until the server on `display` takes connections (a fixed pause
-/// was too short on a loaded machine: the program then found no display and
-/// the test waited for a window that could not come); false when Xvfb
-/// exits first or 30 s pass.
+/// The display number Xvfb writes to its stdout once it is ready, or
+/// `None` when it exits first or 30 s pass.
+fn read_display_number(xvfb: &mut Kill) -> Option<u32> {
+    use std::io::BufRead;
+    let stdout = xvfb.0.stdout.take()?;
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut line = String::new();
+        let _ = std::io::BufReader::new(stdout).read_line(&mut line);
+        let _ = tx.send(line);
+    });
+    let line = rx.recv_timeout(Duration::from_secs(30)).ok()?;
+    line.trim().parse().ok()
+}
+
+/// Whether the server on `display` takes connections and is still ours
+/// (Xvfb has not exited); polls for up to 30 s.
 fn accepts_clients(display: &str, xvfb: &mut Kill) -> bool {
     let t0 = Instant::now();
     while t0.elapsed() < Duration::from_secs(30) {
         if xvfb.0.try_wait().ok().flatten().is_some() {
             return false;
         }
-        let ok = Command::new("xdotool")
-            .arg("getdisplaygeometry")
-            .env("DISPLAY", display)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .status()
-            .is_ok_and(|s| s.success());
-        if ok {
-            return true;
+        if answers(display) {
+            return xvfb.0.try_wait().ok().flatten().is_none();
         }
         sleep(Duration::from_millis(100));
     }
     false
+}
+
+/// Whether an X server answers on `display`.
+fn answers(display: &str) -> bool {
+    Command::new("xdotool")
+        .arg("getdisplaygeometry")
+        .env("DISPLAY", display)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
 }
 
 impl Screen {
@@ -143,21 +176,42 @@ impl Screen {
         )
     }
 
-    /// Waits for `app`'s window (titled `bump…`), focuses it and returns
-    /// its id. Fails at once, with the program's log (`log`), if the
-    /// program exits first.
-    pub fn window(&self, app: &mut Kill, log: &std::path::Path) -> String {
+    /// Starts `bump` with `args` (stderr to `log`, stdout piped when
+    /// `piped`), waits for its window (titled `bump…`), focuses it and
+    /// returns the program.
+    ///
+    /// Fails at once, with the program's log, if the program exits first,
+    /// except when it could not connect to a server that is still up and
+    /// still takes connections: that is the machine, not the program, so it
+    /// is said on stderr and the program is started again (twice at most).
+    pub fn open(&mut self, args: &[&str], log: &std::path::Path, piped: bool) -> Kill {
+        let stdout = || if piped { Stdio::piped() } else { Stdio::null() };
+        let mut tries = 1;
+        let mut app = self.launch(args, log, stdout());
         let t0 = Instant::now();
         let text = || std::fs::read_to_string(log).unwrap_or_default();
-        let wid = loop {
+        let window = loop {
             let w = xdotool(&self.display, &["search", "--name", "^bump"]);
             if let Some(id) = w.lines().next().filter(|s| !s.is_empty()) {
                 break id.to_string();
             }
             if let Some(status) = app.0.try_wait().expect("wait") {
+                let said = text();
+                let server = self.server_state();
+                let unreachable = said.contains("cannot open a window");
+                if unreachable && server.is_none() && tries < 3 {
+                    eprintln!(
+                        "bump could not reach {} (try {tries}) although the \
+                         server is up; starting it again. Its log:\n{said}",
+                        self.display
+                    );
+                    tries += 1;
+                    app = self.launch(args, log, stdout());
+                    continue;
+                }
                 panic!(
-                    "bump exited ({status}) before its window appeared:\n{}",
-                    text()
+                    "bump exited ({status}) before its window appeared{}:\n{said}",
+                    server.map_or(String::new(), |s| format!(" ({s})"))
                 );
             }
             assert!(
@@ -169,9 +223,20 @@ impl Screen {
         };
         sleep(Duration::from_secs(2)); // first frames (shader compilation on the CPU)
         // There is no window manager: focus the window, then type real key events.
-        xdotool(&self.display, &["windowfocus", "--sync", &wid]);
+        xdotool(&self.display, &["windowfocus", "--sync", &window]);
         sleep(Duration::from_millis(700)); // let the focus change reach the app
-        wid
+        app
+    }
+
+    /// `None` when Xvfb runs and takes connections; otherwise what is
+    /// wrong, with Xvfb's log.
+    fn server_state(&mut self) -> Option<String> {
+        let xlog = std::fs::read_to_string(self.runtime.join("xvfb.log")).unwrap_or_default();
+        if let Ok(Some(status)) = self.xvfb.0.try_wait() {
+            return Some(format!("Xvfb exited ({status}); its log:\n{xlog}"));
+        }
+        (!answers(&self.display))
+            .then(|| format!("Xvfb runs but takes no connections; its log:\n{xlog}"))
     }
 }
 
