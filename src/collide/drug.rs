@@ -11,6 +11,43 @@ use crate::motion::Pose;
 /// x, y and z of four points, each in SIMD lanes.
 pub type Lanes3 = [f32x4; 3];
 
+/// A rotation applied to four points at a time, in f32 lanes.
+#[derive(Debug, Clone, Copy)]
+pub struct Turn4 {
+    /// The matrix's columns, each element in every lane.
+    cols: [Lanes3; 3],
+}
+
+impl Turn4 {
+    /// The rotation `rotation` (its matrix rounded to f32).
+    pub fn new(rotation: DQuat) -> Self {
+        let m: Mat3 = DMat3::from_quat(rotation).as_mat3();
+        let col = |c: Vec3| [c.x, c.y, c.z].map(f32x4::splat);
+        Self {
+            cols: [col(m.x_axis), col(m.y_axis), col(m.z_axis)],
+        }
+    }
+
+    /// Four points turned: within a few f32 roundings of the exact
+    /// rotation's values rounded to f32.
+    #[inline]
+    pub fn apply(&self, [x, y, z]: Lanes3) -> Lanes3 {
+        let [cx, cy, cz] = &self.cols;
+        std::array::from_fn(|k| cx[k] * x + cy[k] * y + cz[k] * z)
+    }
+}
+
+/// Bounding balls of four groups of four atoms (see
+/// [`DrugAtoms::local_fours`]), in SIMD lanes: a group's atoms lie within
+/// `radius` of `centre` (lanes past the last group: radius −∞).
+#[derive(Debug, Clone, Copy)]
+pub struct Balls4 {
+    /// Centres, relative to the drug's centre.
+    pub centre: Lanes3,
+    /// Radii.
+    pub radius: f32x4,
+}
+
 /// Drug atoms with their contact-rule constants precomputed.
 #[derive(Debug, Clone)]
 pub struct DrugAtoms {
@@ -33,6 +70,8 @@ pub struct DrugAtoms {
     /// `local` four atoms at a time: x, y and z in SIMD lanes, the last
     /// group padded with the origin.
     local_fours: Vec<Lanes3>,
+    /// Bounding balls of the groups of `local_fours`, four groups at a time.
+    group_balls: Vec<Balls4>,
     /// Largest contact distance atom `i` can have with any receptor atom.
     pub reach: Vec<f32>,
     /// Largest `reach`.
@@ -80,6 +119,40 @@ impl DrugAtoms {
                 [lane(0), lane(1), lane(2)]
             })
             .collect();
+        let balls: Vec<(Vec3, f32)> = drug
+            .local
+            .chunks(4)
+            .map(|c| {
+                let lo = c.iter().fold(Vec3::INFINITY, |a, p| a.min(*p));
+                let hi = c.iter().fold(Vec3::NEG_INFINITY, |a, p| a.max(*p));
+                let centre = 0.5 * (lo + hi);
+                let r = c
+                    .iter()
+                    .map(|p| (p.as_dvec3() - centre.as_dvec3()).length())
+                    .fold(0.0, f64::max);
+                // Rounded up past f32's rounding of the radius and of the
+                // centre's rotation.
+                (centre, (r * (1.0 + 1e-6) + 1e-5) as f32)
+            })
+            .collect();
+        let group_balls = balls
+            .chunks(4)
+            .map(|c| {
+                let lane = |f: &dyn Fn(&(Vec3, f32)) -> f32, pad: f32| {
+                    f32x4::from(std::array::from_fn::<f32, 4, _>(|l| {
+                        c.get(l).map_or(pad, f)
+                    }))
+                };
+                Balls4 {
+                    centre: [
+                        lane(&|b| b.0.x, 0.0),
+                        lane(&|b| b.0.y, 0.0),
+                        lane(&|b| b.0.z, 0.0),
+                    ],
+                    radius: lane(&|b| b.1, f32::NEG_INFINITY),
+                }
+            })
+            .collect();
         let reach: Vec<f32> = own.iter().map(|o| o + receptor_max_radius).collect();
         let max_reach = reach.iter().copied().fold(0.0, f32::max);
         let extent = drug
@@ -96,6 +169,7 @@ impl DrugAtoms {
             own,
             own_fours,
             local_fours,
+            group_balls,
             reach,
             max_reach,
             extent,
@@ -158,18 +232,19 @@ impl DrugAtoms {
         &self.local_fours
     }
 
-    /// [`DrugAtoms::local_fours`] rotated by `rotation`, in f32: within a
-    /// few f32 roundings of [`DrugAtoms::rotated`]'s values rounded to f32.
-    pub fn rotated_fours_into(&self, rotation: DQuat, out: &mut Vec<Lanes3>) {
-        let m: Mat3 = DMat3::from_quat(rotation).as_mat3();
-        let col = |c: Vec3| [c.x, c.y, c.z].map(f32x4::splat);
-        let (cx, cy, cz) = (col(m.x_axis), col(m.y_axis), col(m.z_axis));
+    /// Bounding balls of the groups of [`DrugAtoms::local_fours`], four
+    /// groups at a time.
+    pub fn group_balls(&self) -> &[Balls4] {
+        &self.group_balls
+    }
+
+    /// [`DrugAtoms::group_balls`] with their centres turned by `turn`.
+    pub fn turned_balls_into(&self, turn: &Turn4, out: &mut Vec<Balls4>) {
         out.clear();
-        out.extend(
-            self.local_fours
-                .iter()
-                .map(|&[x, y, z]| std::array::from_fn(|k| cx[k] * x + cy[k] * y + cz[k] * z)),
-        );
+        out.extend(self.group_balls.iter().map(|b| Balls4 {
+            centre: turn.apply(b.centre),
+            radius: b.radius,
+        }));
     }
 
     /// Atom offsets from the centre, rotated by `rotation` (f64).
@@ -199,9 +274,10 @@ mod tests {
     use crate::model::AtomInfo;
     use crate::model::molecule::test_carbon;
 
-    /// `local_fours` holds `local` in lanes (padded with the origin), and
-    /// `rotated_fours_into` rotates them to within a few f32 roundings of
-    /// `rotated`'s f64 values.
+    /// `local_fours` holds `local` in lanes (padded with the origin),
+    /// `Turn4` rotates them to within a few f32 roundings of `rotated`'s
+    /// f64 values, and every atom lies inside its group's ball, turned or
+    /// not.
     #[test]
     fn offsets_in_lanes_are_the_offsets() {
         let mut rng = crate::rng::Rng(11);
@@ -223,18 +299,38 @@ mod tests {
                 let want = drug.local.get(i).copied().unwrap_or(Vec3::ZERO);
                 assert_eq!(lane(&groups[i / 4], i), want, "atom {i} of {n}");
             }
-            let mut out = Vec::new();
+            let mut balls = Vec::new();
             for _ in 0..20 {
                 let axis = rng.in_box(DVec3::ONE).normalize_or(DVec3::Z);
                 let pose = Pose::new(
                     DQuat::from_axis_angle(axis, rng.range(-3.0, 3.0)),
                     DVec3::ZERO,
                 );
-                drug.rotated_fours_into(pose.rotation, &mut out);
+                let turn = Turn4::new(pose.rotation);
+                drug.turned_balls_into(&turn, &mut balls);
+                assert_eq!(balls.len(), n.div_ceil(16));
                 for (i, y) in drug.rotated(&pose).iter().enumerate() {
-                    let got = lane(&out[i / 4], i).as_dvec3();
+                    let got = lane(&turn.apply(groups[i / 4]), i).as_dvec3();
                     assert!((got - *y).length() < 1e-5, "atom {i}: {got} vs {y}");
+                    // Inside its group's ball, turned with it.
+                    let (g, b) = (i / 4, &balls[i / 16]);
+                    let c = lane(&b.centre, g).as_dvec3();
+                    let r = f64::from(b.radius.to_array()[g % 4]);
+                    assert!((*y - c).length() <= r, "atom {i}: outside its ball");
                 }
+            }
+            // Lanes past the last group are empty balls.
+            let last = drug
+                .group_balls()
+                .last()
+                .expect("a group")
+                .radius
+                .to_array();
+            for (g, r) in last.iter().enumerate() {
+                assert_eq!(
+                    *r == f32::NEG_INFINITY,
+                    (balls.len() - 1) * 4 + g >= groups.len()
+                );
             }
         }
     }

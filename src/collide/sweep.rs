@@ -11,12 +11,17 @@
 //! drug can be near the receptor's box are visited. In an interval, atom `i`
 //! stays inside a ball around its mid-interval position of radius
 //! `s_i·Δt/2`, so the collider's box query around that ball finds every
-//! receptor atom it could reach (nothing is skipped, however long the step);
-//! an atom whose ball the collider's clearance map proves empty has no
-//! candidates and skips the query (four atoms at a time by their nearest
-//! lattice corners, [`super::clearance::Clearance::clear_nearest4`], then
-//! the eight corners, [`super::clearance::Clearance::clear_corners`], for
-//! those left). Intervals are taken in order and the first hit ends the search.
+//! receptor atom it could reach (nothing is skipped, however long the step).
+//! Atoms are taken four at a time (a group), and most never get that far: a
+//! group wholly outside the receptor's box grown by its reach and sweep has
+//! no candidates (in a pure translation, four groups' bounding balls are
+//! tested at once before any atom is placed), and an atom whose ball the
+//! collider's clearance map proves empty has none either (by the nearest
+//! lattice corners of four atoms at once,
+//! [`super::clearance::Clearance::clear_nearest4`], then the eight corners,
+//! [`super::clearance::Clearance::clear_corners`], for those left). Neither
+//! test changes the answer, only what it costs. Intervals are taken in order
+//! and the first hit ends the search.
 //!
 //! For each candidate pair the first time its gap reaches the target is found
 //! by conservative advancement on `f(t) = |x(t) − q|² − c²`: from `t`, the
@@ -48,7 +53,7 @@ use wide::f32x4;
 
 use super::check::{Pair, check, pairs_within, sort_pairs};
 use super::collider::{Collider, unpack_meta};
-use super::drug::{DrugAtoms, Lanes3};
+use super::drug::{Balls4, DrugAtoms, Turn4};
 use crate::motion::{MAX_COORDINATE, Pose, Screw};
 
 /// Smallest tolerance accepted, in Å: below it f32 coordinates cannot tell
@@ -404,7 +409,7 @@ struct Scratch {
     ys: Vec<DVec3>,
     speeds: Vec<f64>,
     cands: Vec<Candidate>,
-    offsets: Vec<Lanes3>,
+    balls: Vec<Balls4>,
 }
 
 thread_local! {
@@ -423,7 +428,7 @@ fn swept_with(
         ys,
         speeds,
         cands,
-        offsets,
+        balls,
     } = scratch;
     let start = *screw.start();
     let n = drug.len();
@@ -476,15 +481,16 @@ fn swept_with(
     let (first, past) = near_box(screw, blo, bhi, drug.extent, intervals);
     // A translation places the atoms four at a time from their offsets at
     // the start, in lanes (a screw places each in f64): the drug's own for
-    // an unturned drug, else rotated once per query, and only if the drug
-    // comes near the receptor.
-    let offsets: &[Lanes3] = if !translation || first >= past {
-        &[]
+    // an unturned drug, else turned group by group, only for the groups
+    // whose bounding balls (turned once per query) come near the receptor.
+    let (turn4, balls): (Option<Turn4>, &[Balls4]) = if !translation || first >= past {
+        (None, &[])
     } else if start.rotation == DQuat::IDENTITY {
-        drug.local_fours()
+        (None, drug.group_balls())
     } else {
-        drug.rotated_fours_into(start.rotation, offsets);
-        offsets
+        let turn = Turn4::new(start.rotation);
+        drug.turned_balls_into(&turn, balls);
+        (Some(turn), balls)
     };
 
     // End positions are needed only for pairs that overlap at an interval's
@@ -542,74 +548,145 @@ fn swept_with(
                 }
             }
         } else {
-            let rot_m = DMat3::from_quat(screw.rotation_at(tm));
-            // Four atoms at a time: placed, then tested against the map's
-            // nearest corners together; only those it leaves get the
-            // eight-corner test and, failing that, the search.
+            // A translation turns nothing: no rotation matrices to build.
+            let turned = |t: f64| {
+                if translation {
+                    DMat3::IDENTITY
+                } else {
+                    DMat3::from_quat(screw.rotation_at(t))
+                }
+            };
+            let rot_m = turned(tm);
+            // Four atoms at a time: their group's ball against the grown box
+            // (a translation), the atoms placed and against the box, then
+            // against the map's nearest corners together; only those it
+            // leaves get the eight-corner test and, failing that, the search.
             let cm32 = cm.as_vec3();
             let shared_slack = (centre_speed * half + tol) as f32 + 1e-3;
-            debug_assert!(!translation || offsets.len() == n.div_ceil(4));
-            for g in 0..n.div_ceil(4) {
-                let first_atom = 4 * g;
-                let count = (n - first_atom).min(4);
-                let mut slack = [shared_slack; 4];
-                let p = if translation {
-                    // Every atom has the centre's speed and no rotation.
-                    let [x, y, z] = offsets.get(g).copied().unwrap_or_default();
-                    [
+            let shared_slack4 = f32x4::splat(shared_slack);
+            // The receptor's box (grown by `margin`) grown by every atom's
+            // sweep over this interval, its slack and 10⁻³ Å for f32
+            // rounding: every candidate of an atom lies within its box
+            // distance, so a group wholly outside has none. On the E's paths
+            // into the rings this leaves 3.4 of 46.6 groups a query for the
+            // map to test, and makes the query 30 % faster.
+            let grow = s_max * half + 2e-3;
+            let (glo, ghi) = (
+                (blo - DVec3::splat(grow)).as_vec3(),
+                (bhi + DVec3::splat(grow)).as_vec3(),
+            );
+            let (lo4, hi4) = (
+                [
+                    f32x4::splat(glo.x),
+                    f32x4::splat(glo.y),
+                    f32x4::splat(glo.z),
+                ],
+                [
+                    f32x4::splat(ghi.x),
+                    f32x4::splat(ghi.y),
+                    f32x4::splat(ghi.z),
+                ],
+            );
+            let groups = n.div_ceil(4);
+            for s in 0..groups.div_ceil(4) {
+                // The groups 4s .. 4s + 4 that exist (bits), less those
+                // whose bounding balls (a translation tests them four at a
+                // time) lie wholly outside the grown box.
+                let mut todo = (1u32 << (groups - 4 * s).min(4)) - 1;
+                if let Some(b) = balls.get(s) {
+                    let [x, y, z] = b.centre;
+                    let r = b.radius;
+                    let (x, y, z) = (
                         x + f32x4::splat(cm32.x),
                         y + f32x4::splat(cm32.y),
                         z + f32x4::splat(cm32.z),
-                    ]
-                } else {
-                    let mut at = [[0.0f32; 4]; 3];
-                    for l in 0..count {
-                        let i = first_atom + l;
-                        let xm = (rot_m * ys[i] + cm).as_vec3();
-                        (at[0][l], at[1][l], at[2][l]) = (xm.x, xm.y, xm.z);
-                        // f32 slack well above the rounding of receptor-frame
-                        // coordinates, so the f32 tests below keep a superset.
-                        slack[l] = (speeds[i] * half + tol) as f32 + 1e-3;
-                    }
-                    at.map(f32x4::from)
-                };
-                // Nothing within reach over the whole interval: no search.
-                // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
-                let d = f32x4::from(drug.own_four(g)) + f32x4::from(slack);
-                let proved = clearance.map_or(0, |map| map.clear_nearest4(p, d));
-                if proved.count_ones() as usize == count {
-                    continue;
+                    );
+                    let out = (x + r).simd_lt(lo4[0])
+                        | (x - r).simd_gt(hi4[0])
+                        | (y + r).simd_lt(lo4[1])
+                        | (y - r).simd_gt(hi4[1])
+                        | (z + r).simd_lt(lo4[2])
+                        | (z - r).simd_gt(hi4[2]);
+                    todo &= !out.to_bitmask();
                 }
-                let (px, py, pz, d) = (
-                    p[0].to_array(),
-                    p[1].to_array(),
-                    p[2].to_array(),
-                    d.to_array(),
-                );
-                for l in 0..count {
-                    let (i, xm32) = (first_atom + l, Vec3::new(px[l], py[l], pz[l]));
-                    if proved & (1 << l) != 0
-                        || clearance.is_some_and(|map| map.clear_corners(xm32, d[l]))
-                    {
+                while todo != 0 {
+                    let g = 4 * s + todo.trailing_zeros() as usize;
+                    todo &= todo - 1;
+                    let first_atom = 4 * g;
+                    let count = (n - first_atom).min(4);
+                    let (p, slack) = if translation {
+                        // Every atom has the centre's speed and no rotation.
+                        let local = drug.local_fours()[g];
+                        let [x, y, z] = turn4.as_ref().map_or(local, |m| m.apply(local));
+                        (
+                            [
+                                x + f32x4::splat(cm32.x),
+                                y + f32x4::splat(cm32.y),
+                                z + f32x4::splat(cm32.z),
+                            ],
+                            shared_slack4,
+                        )
+                    } else {
+                        let mut at = [[0.0f32; 4]; 3];
+                        let mut slack = [shared_slack; 4];
+                        for l in 0..count {
+                            let i = first_atom + l;
+                            let xm = (rot_m * ys[i] + cm).as_vec3();
+                            (at[0][l], at[1][l], at[2][l]) = (xm.x, xm.y, xm.z);
+                            // f32 slack well above the rounding of receptor-frame
+                            // coordinates, so the f32 tests below keep a superset.
+                            slack[l] = (speeds[i] * half + tol) as f32 + 1e-3;
+                        }
+                        (at.map(f32x4::from), f32x4::from(slack))
+                    };
+                    let out = p[0].simd_lt(lo4[0])
+                        | p[0].simd_gt(hi4[0])
+                        | p[1].simd_lt(lo4[1])
+                        | p[1].simd_gt(hi4[1])
+                        | p[2].simd_lt(lo4[2])
+                        | p[2].simd_gt(hi4[2]);
+                    if (out.to_bitmask() | (0b1111 << count)) & 0b1111 == 0b1111 {
                         continue;
                     }
-                    let slack = slack[l];
-                    let far = drug.reach[i] + slack;
-                    collider.near(xm32, far, |a, meta, d2| {
-                        let q = a.truncate();
-                        let (j, polar) = unpack_meta(meta);
-                        let contact = drug.contact(i, a.w, polar);
-                        // Out of reach over the whole interval: not a candidate.
-                        let reach = contact + slack;
-                        if d2 <= reach * reach {
-                            cands.push(Candidate {
-                                drug: i as u32,
-                                receptor: j,
-                                q,
-                                contact,
-                            });
+                    // Nothing within reach over the whole interval: no search.
+                    // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
+                    let d = f32x4::from(drug.own_four(g)) + slack;
+                    let proved = clearance.map_or(0, |map| map.clear_nearest4(p, d));
+                    if proved == (1 << count) - 1 {
+                        continue;
+                    }
+                    let slack = slack.to_array();
+                    let (px, py, pz, d) = (
+                        p[0].to_array(),
+                        p[1].to_array(),
+                        p[2].to_array(),
+                        d.to_array(),
+                    );
+                    for l in 0..count {
+                        let (i, xm32) = (first_atom + l, Vec3::new(px[l], py[l], pz[l]));
+                        if proved & (1 << l) != 0
+                            || clearance.is_some_and(|map| map.clear_corners(xm32, d[l]))
+                        {
+                            continue;
                         }
-                    });
+                        let slack = slack[l];
+                        let far = drug.reach[i] + slack;
+                        collider.near(xm32, far, |a, meta, d2| {
+                            let q = a.truncate();
+                            let (j, polar) = unpack_meta(meta);
+                            let contact = drug.contact(i, a.w, polar);
+                            // Out of reach over the whole interval: not a candidate.
+                            let reach = contact + slack;
+                            if d2 <= reach * reach {
+                                cands.push(Candidate {
+                                    drug: i as u32,
+                                    receptor: j,
+                                    q,
+                                    contact,
+                                });
+                            }
+                        });
+                    }
                 }
             }
             if ta == 0.0 {
@@ -623,7 +700,7 @@ fn swept_with(
                 cands.sort_unstable_by_key(|k| (k.drug, k.receptor));
             }
             // Positions at `ta` only for the atoms with candidates.
-            let rot_a = DMat3::from_quat(screw.rotation_at(ta));
+            let rot_a = turned(ta);
             let cen_a = screw.centre_at(ta);
             for k in cands.iter() {
                 let i = k.drug as usize;
