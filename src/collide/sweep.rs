@@ -335,7 +335,15 @@ impl Mover<'_> {
         limit: f64,
     ) -> Option<f64> {
         let sc = self.screw;
-        let at = |t: f64| sc.rotation_at(t) * y + sc.centre_at(t);
+        // A translation turns nothing (and a quaternion product by the
+        // identity would cost a few dozen flops to change nothing).
+        let at = |t: f64| {
+            if sc.is_translation() {
+                y + sc.centre_at(t)
+            } else {
+                sc.rotation_at(t) * y + sc.centre_at(t)
+            }
+        };
         let mut t = t0;
         let mut x = x0;
         let mut dist = (x - q).length();
