@@ -190,6 +190,20 @@ struct Gfx {
     egui_ctx: egui::Context,
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
+    textures: PendingTextures,
+}
+
+/// egui's texture changes (glyph atlas, images) not yet given to the
+/// renderer. A frame that draws nothing (a lost surface, a quit) keeps them
+/// for the next, so no glyph goes missing; dropped, they are cleared, since
+/// egui asserts in debug builds that every change it made was applied.
+#[derive(Default)]
+struct PendingTextures(egui::TexturesDelta);
+
+impl Drop for PendingTextures {
+    fn drop(&mut self) {
+        self.0.clear();
+    }
 }
 
 #[derive(Default)]
@@ -319,6 +333,7 @@ impl App {
             egui_ctx,
             egui_state,
             egui_renderer,
+            textures: PendingTextures::default(),
         })
     }
 
@@ -707,6 +722,9 @@ impl App {
             }
         });
         input.commands.extend(hud_cmds);
+        g.textures
+            .0
+            .append(std::mem::take(&mut full.textures_delta));
         // A replay ignores live input and steps only when a recorded frame is due.
         let mut step = true;
         if let Some(p) = &mut self.player {
@@ -812,8 +830,8 @@ impl App {
             size_in_pixels: [g.config.width, g.config.height],
             pixels_per_point: ppp,
         };
-        // Drain the texture deltas (egui panics on undrained ones in debug).
-        let mut textures = std::mem::take(&mut full.textures_delta);
+        // This frame's texture changes and those of frames that drew nothing.
+        let mut textures = std::mem::take(&mut g.textures.0);
         for (id, deltas) in textures.set.drain() {
             for delta in deltas {
                 g.egui_renderer
@@ -995,5 +1013,32 @@ impl ApplicationHandler for App {
             }
             _ => {}
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::PendingTextures;
+
+    /// Texture changes kept for a frame that never came (the window closed)
+    /// are dropped without tripping egui's debug assertion, which a bare
+    /// `TexturesDelta` would (a quit right after a message with new glyphs
+    /// did, in a debug build).
+    #[test]
+    fn texture_changes_never_drawn_are_dropped_quietly() {
+        let mut pending = PendingTextures::default();
+        let mut delta = egui::TexturesDelta::default();
+        delta.set.insert(
+            egui::TextureId::Managed(0),
+            [egui::epaint::ImageDelta::full(
+                egui::ColorImage::filled([2, 2], egui::Color32::WHITE),
+                egui::TextureOptions::LINEAR,
+            )]
+            .into_iter()
+            .collect(),
+        );
+        pending.0.append(delta);
+        assert_eq!(pending.0.set.len(), 1);
+        drop(pending);
     }
 }
