@@ -595,6 +595,11 @@ fn swept_with(
                     f32x4::splat(ghi.z),
                 ],
             );
+            // A drug wholly inside the grown box (in a pocket) has no group
+            // outside it: no box tests then.
+            let cull = (cm - DVec3::splat(drug.extent)).cmplt(glo.as_dvec3()).any()
+                || (cm + DVec3::splat(drug.extent)).cmpgt(ghi.as_dvec3()).any();
+            let balls = if cull { balls } else { &[] };
             let groups = n.div_ceil(4);
             for s in 0..groups.div_ceil(4) {
                 // The groups 4s .. 4s + 4 that exist (bits), less those
@@ -647,14 +652,16 @@ fn swept_with(
                         }
                         (at.map(f32x4::from), f32x4::from(slack))
                     };
-                    let out = p[0].simd_lt(lo4[0])
-                        | p[0].simd_gt(hi4[0])
-                        | p[1].simd_lt(lo4[1])
-                        | p[1].simd_gt(hi4[1])
-                        | p[2].simd_lt(lo4[2])
-                        | p[2].simd_gt(hi4[2]);
-                    if (out.to_bitmask() | (0b1111 << count)) & 0b1111 == 0b1111 {
-                        continue;
+                    if cull {
+                        let out = p[0].simd_lt(lo4[0])
+                            | p[0].simd_gt(hi4[0])
+                            | p[1].simd_lt(lo4[1])
+                            | p[1].simd_gt(hi4[1])
+                            | p[2].simd_lt(lo4[2])
+                            | p[2].simd_gt(hi4[2]);
+                        if (out.to_bitmask() | (0b1111 << count)) & 0b1111 == 0b1111 {
+                            continue;
+                        }
                     }
                     // Nothing within reach over the whole interval: no search.
                     // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
