@@ -42,6 +42,21 @@ pub const MAX_VERTICES: usize = 1 << 24;
 /// to the corners (receptor-frame coordinates, a few hundred Å at most).
 const ROUNDING: f32 = 1e-3;
 
+/// How much more than its nearest corner's value (less its distance) the
+/// best of a cell's eight corners can prove: one step of the stored values,
+/// and 10⁻³ Å for rounding (see [`Clearance::corners_may_prove`]).
+const HOPE: f32 = 1.0 / SCALE + 1e-3;
+
+/// What the nearest corners prove of four points (see
+/// [`Clearance::clear_nearest4`]): bit `k` for point `k`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Nearest4 {
+    /// Proved clear.
+    pub proved: u32,
+    /// Not proved, and the eight corners may still prove it.
+    pub open: u32,
+}
+
 /// True when a threshold `d` is one the map can prove: positive (a corner
 /// stored as 0 may be inside an atom, and proves nothing, as it should not)
 /// and below the cap.
@@ -198,7 +213,8 @@ impl Clearance {
         // The nearest corner first: one byte, and it alone proves most
         // points away from the receptor (those the eight corners prove
         // include all it proves, so the answer is the same).
-        self.nearest_proves(&at, d) || self.corners_prove(&at, d)
+        let (proved, open) = self.nearest_proves(&at, d);
+        proved || (open && self.corners_prove(&at, d))
     }
 
     /// The eight-corner test alone: what [`Clearance::clear`] answers for a
@@ -235,15 +251,16 @@ impl Clearance {
         })
     }
 
-    /// True when the corner of `at` nearest its point proves it clear by `d`.
+    /// Whether the corner of `at` nearest its point proves it clear by `d`
+    /// (`.0`), and if not, whether the eight corners may (`.1`).
     #[inline(always)]
-    fn nearest_proves(&self, at: &Cell, d: f32) -> bool {
+    fn nearest_proves(&self, at: &Cell, d: f32) -> (bool, bool) {
         let [fx, fy, fz] = at.frac;
         let [nx, ny, _] = self.dims;
         let (ox, oy, oz) = (fx >= 0.5, fy >= 0.5, fz >= 0.5);
         let nearest = at.base + usize::from(ox) + usize::from(oy) * nx + usize::from(oz) * nx * ny;
         let Some(&v) = self.values.get(nearest) else {
-            return false;
+            return (false, true);
         };
         let room = f32::from(v) * (1.0 / SCALE) - (d + ROUNDING);
         let (ex, ey, ez) = (
@@ -251,7 +268,23 @@ impl Clearance {
             fy - f32::from(u8::from(oy)),
             fz - f32::from(u8::from(oz)),
         );
-        room > 0.0 && room * room > (ex * ex + ey * ey + ez * ez) * (self.spacing * self.spacing)
+        let e2 = (ex * ex + ey * ey + ez * ez) * (self.spacing * self.spacing);
+        let proved = room > 0.0 && room * room > e2;
+        (proved, !proved && Self::corners_may_prove(room, e2))
+    }
+
+    /// False when no corner of a point's lattice cell can prove it clear,
+    /// given the nearest corner's `room` (its value less the need) and its
+    /// squared distance `e2` from the point. Stored values grow by at most
+    /// the distance between vertices (plus one step of rounding), so a
+    /// corner `c` has at most `v_n + 1/32 + |c − n|`, and its bound
+    /// `v_c − |x − c|` is at most `v_n + 1/32 + |x − n|`: hopeless when that
+    /// is not above the need, `room + 1/32 + √e2 ≤ 0`. (With 10⁻³ Å to
+    /// spare for f32 rounding; a wrong answer here would only cost a search.)
+    #[inline(always)]
+    fn corners_may_prove(room: f32, e2: f32) -> bool {
+        let hope = room + HOPE;
+        hope > 0.0 || hope * hope < e2
     }
 
     /// True when the best of the eight corners of `at` proves its point
@@ -291,12 +324,14 @@ impl Clearance {
     }
 
     /// [`Clearance::clear`] for four points at once (`p`: their x, y and z
-    /// in lanes), by the nearest lattice corner alone: bit `k` of the result
-    /// is set when that corner proves point `k` clear by `d[k]`. A point it
-    /// leaves unproved may still be proved by [`Clearance::clear_corners`].
-    /// Lanes with `d ≤ 0` (padding) are never set.
+    /// in lanes), by the nearest lattice corner alone. `proved`: bit `k` is
+    /// set when that corner proves point `k` clear by `d[k]`. `open`: the
+    /// points it leaves unproved that [`Clearance::clear_corners`] may still
+    /// prove; for the others the eight corners cannot (see
+    /// [`Clearance::corners_may_prove`]). Lanes with `d ≤ 0` (padding) are
+    /// never set in either.
     #[inline(always)]
-    pub fn clear_nearest4(&self, p: [f32x4; 3], d: f32x4) -> u32 {
+    pub fn clear_nearest4(&self, p: [f32x4; 3], d: f32x4) -> Nearest4 {
         let Lanes {
             origin,
             last,
@@ -350,7 +385,13 @@ impl Clearance {
         // value − need > spacing · distance, both sides squared (the left
         // positive), so no square roots.
         let proved = usable & inside & room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(e2);
-        (proved | beyond).to_bitmask() & 0b1111
+        // As `corners_may_prove`, in lanes.
+        let hope = room + f32x4::splat(HOPE);
+        let may = hope.simd_gt(f32x4::ZERO) | (hope * hope).simd_lt(e2);
+        Nearest4 {
+            proved: (proved | beyond).to_bitmask() & 0b1111,
+            open: (usable & inside & !proved & may).to_bitmask() & 0b1111,
+        }
     }
 
     /// Bytes the map takes.
@@ -425,7 +466,7 @@ mod tests {
         let mut rng = Rng(11);
         let atoms = random_atoms(&mut rng, 200, 12.0);
         let map = Clearance::build(&atoms).expect("atoms");
-        let (mut by_nearest, mut by_corners) = (0, 0);
+        let (mut by_nearest, mut by_corners, mut hopeless) = (0, 0, 0);
         for k in 0..20_000 {
             let mut x = [Vec3::ZERO; 4];
             let mut d = [0.0f32; 4];
@@ -452,23 +493,32 @@ mod tests {
             let lanes = |f: fn(&Vec3) -> f32| f32x4::from(x.each_ref().map(f));
             let count = 1 + k % 4;
             let padded: [f32; 4] = std::array::from_fn(|l| if l < count { d[l] } else { 0.0 });
-            let bits = map.clear_nearest4(
+            let got = map.clear_nearest4(
                 [lanes(|v| v.x), lanes(|v| v.y), lanes(|v| v.z)],
                 f32x4::from(padded),
             );
+            let (bits, open) = (got.proved, got.open);
             assert_eq!(bits >> count, 0, "padding lanes set: {bits:b}");
+            assert_eq!(open >> count, 0, "padding lanes open: {open:b}");
+            assert_eq!(bits & open, 0, "proved and open: {bits:b} {open:b}");
             for l in 0..count {
                 let one = map.clear(x[l], d[l]);
                 let nearest = bits & (1 << l) != 0;
-                let four = nearest || map.clear_corners(x[l], d[l]);
+                let corners = map.clear_corners(x[l], d[l]);
+                // A point left hopeless is one the eight corners cannot prove.
+                if !nearest && open & (1 << l) == 0 {
+                    assert!(!corners, "{} d {}: hopeless, yet proved", x[l], d[l]);
+                    hopeless += 1;
+                }
+                let four = nearest || corners;
                 assert_eq!(four, one, "{} d {}: nearest {nearest}", x[l], d[l]);
                 by_nearest += usize::from(nearest);
                 by_corners += usize::from(four && !nearest);
             }
         }
         assert!(
-            by_nearest > 1000 && by_corners > 100,
-            "{by_nearest} {by_corners}"
+            by_nearest > 1000 && by_corners > 100 && hopeless > 1000,
+            "{by_nearest} {by_corners} {hopeless}"
         );
     }
 

@@ -1,5 +1,7 @@
 //! A drug prepared for queries against one receptor collider: its atoms'
-//! local positions, radii and the per-atom parts of the contact distance.
+//! local positions, radii and the per-atom parts of the contact distance,
+//! and its atoms four at a time (groups, in SIMD lanes) with each group's
+//! bounding ball, which move-to-touch tests before the atoms in it.
 
 use glam::{DMat3, DQuat, DVec3, Mat3, Vec3};
 use wide::f32x4;

@@ -52,6 +52,7 @@ use serde::Serialize;
 use wide::f32x4;
 
 use super::check::{Pair, check, pairs_within, sort_pairs};
+use super::clearance::Nearest4;
 use super::collider::{Collider, unpack_meta};
 use super::drug::{Balls4, DrugAtoms, Turn4};
 use crate::motion::{MAX_COORDINATE, Pose, Screw};
@@ -666,7 +667,10 @@ fn swept_with(
                     // Nothing within reach over the whole interval: no search.
                     // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
                     let d = f32x4::from(drug.own_four(g)) + slack;
-                    let proved = clearance.map_or(0, |map| map.clear_nearest4(p, d));
+                    let Nearest4 { proved, open } = clearance
+                        .map_or(Nearest4 { proved: 0, open: 0 }, |map| {
+                            map.clear_nearest4(p, d)
+                        });
                     if proved == (1 << count) - 1 {
                         continue;
                     }
@@ -680,7 +684,8 @@ fn swept_with(
                     for l in 0..count {
                         let (i, xm32) = (first_atom + l, Vec3::new(px[l], py[l], pz[l]));
                         if proved & (1 << l) != 0
-                            || clearance.is_some_and(|map| map.clear_corners(xm32, d[l]))
+                            || (open & (1 << l) != 0
+                                && clearance.is_some_and(|map| map.clear_corners(xm32, d[l])))
                         {
                             continue;
                         }
