@@ -327,9 +327,10 @@ impl Clearance {
     /// in lanes), by the nearest lattice corner alone. `proved`: bit `k` is
     /// set when that corner proves point `k` clear by `d[k]`. `open`: the
     /// points it leaves unproved that [`Clearance::clear_corners`] may still
-    /// prove; for the others the eight corners cannot (see
-    /// [`Clearance::corners_may_prove`]). Lanes with `d ≤ 0` (padding) are
-    /// never set in either.
+    /// prove; for the others the eight corners cannot (no corner exceeds
+    /// the nearest by more than its distance from the point plus one step
+    /// of the stored values). Lanes with `d ≤ 0` (padding) are never set in
+    /// either.
     #[inline(always)]
     pub fn clear_nearest4(&self, p: [f32x4; 3], d: f32x4) -> Nearest4 {
         let Lanes {
