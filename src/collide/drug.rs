@@ -50,6 +50,13 @@ pub struct Balls4 {
     pub radius: f32x4,
 }
 
+/// `f` of up to four items in SIMD lanes, `pad` in the lanes past them.
+fn lanes<T>(items: &[T], f: impl Fn(&T) -> f32, pad: f32) -> f32x4 {
+    f32x4::from(std::array::from_fn::<f32, 4, _>(|l| {
+        items.get(l).map_or(pad, &f)
+    }))
+}
+
 /// Drug atoms with their contact-rule constants precomputed.
 #[derive(Debug, Clone)]
 pub struct DrugAtoms {
@@ -112,14 +119,7 @@ impl DrugAtoms {
         let local_fours = drug
             .local
             .chunks(4)
-            .map(|c| {
-                let lane = |axis: usize| {
-                    f32x4::from(std::array::from_fn::<f32, 4, _>(|l| {
-                        c.get(l).map_or(0.0, |p| p[axis])
-                    }))
-                };
-                [lane(0), lane(1), lane(2)]
-            })
+            .map(|c| [0, 1, 2].map(|axis| lanes(c, |p| p[axis], 0.0)))
             .collect();
         let balls: Vec<(Vec3, f32)> = drug
             .local
@@ -139,20 +139,9 @@ impl DrugAtoms {
             .collect();
         let group_balls = balls
             .chunks(4)
-            .map(|c| {
-                let lane = |f: &dyn Fn(&(Vec3, f32)) -> f32, pad: f32| {
-                    f32x4::from(std::array::from_fn::<f32, 4, _>(|l| {
-                        c.get(l).map_or(pad, f)
-                    }))
-                };
-                Balls4 {
-                    centre: [
-                        lane(&|b| b.0.x, 0.0),
-                        lane(&|b| b.0.y, 0.0),
-                        lane(&|b| b.0.z, 0.0),
-                    ],
-                    radius: lane(&|b| b.1, f32::NEG_INFINITY),
-                }
+            .map(|c| Balls4 {
+                centre: [0, 1, 2].map(|axis| lanes(c, |b| b.0[axis], 0.0)),
+                radius: lanes(c, |b| b.1, f32::NEG_INFINITY),
             })
             .collect();
         let reach: Vec<f32> = own.iter().map(|o| o + receptor_max_radius).collect();

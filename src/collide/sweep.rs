@@ -54,7 +54,7 @@ use wide::f32x4;
 use super::check::{Pair, check, pairs_within, sort_pairs};
 use super::clearance::Nearest4;
 use super::collider::{Collider, unpack_meta};
-use super::drug::{Balls4, DrugAtoms, Turn4};
+use super::drug::{Balls4, DrugAtoms, Lanes3, Turn4};
 use crate::motion::{MAX_COORDINATE, Pose, Screw};
 
 /// Smallest tolerance accepted, in Å: below it f32 coordinates cannot tell
@@ -584,18 +584,8 @@ fn swept_with(
                 (blo - DVec3::splat(grow)).as_vec3(),
                 (bhi + DVec3::splat(grow)).as_vec3(),
             );
-            let (lo4, hi4) = (
-                [
-                    f32x4::splat(glo.x),
-                    f32x4::splat(glo.y),
-                    f32x4::splat(glo.z),
-                ],
-                [
-                    f32x4::splat(ghi.x),
-                    f32x4::splat(ghi.y),
-                    f32x4::splat(ghi.z),
-                ],
-            );
+            let splat = |v: Vec3| [v.x, v.y, v.z].map(f32x4::splat);
+            let (lo4, hi4, cm4) = (splat(glo), splat(ghi), splat(cm32));
             // A drug wholly inside the grown box (in a pocket) has no group
             // outside it: no box tests then.
             let cull = (cm - DVec3::splat(drug.extent)).cmplt(glo.as_dvec3()).any()
@@ -608,20 +598,9 @@ fn swept_with(
                 // time) lie wholly outside the grown box.
                 let mut todo = (1u32 << (groups - 4 * s).min(4)) - 1;
                 if let Some(b) = balls.get(s) {
-                    let [x, y, z] = b.centre;
+                    let centre = [0, 1, 2].map(|k| b.centre[k] + cm4[k]);
                     let r = b.radius;
-                    let (x, y, z) = (
-                        x + f32x4::splat(cm32.x),
-                        y + f32x4::splat(cm32.y),
-                        z + f32x4::splat(cm32.z),
-                    );
-                    let out = (x + r).simd_lt(lo4[0])
-                        | (x - r).simd_gt(hi4[0])
-                        | (y + r).simd_lt(lo4[1])
-                        | (y - r).simd_gt(hi4[1])
-                        | (z + r).simd_lt(lo4[2])
-                        | (z - r).simd_gt(hi4[2]);
-                    todo &= !out.to_bitmask();
+                    todo &= !outside_box(centre, lo4.map(|l| l - r), hi4.map(|h| h + r));
                 }
                 while todo != 0 {
                     let g = 4 * s + todo.trailing_zeros() as usize;
@@ -631,15 +610,8 @@ fn swept_with(
                     let (p, slack) = if translation {
                         // Every atom has the centre's speed and no rotation.
                         let local = drug.local_fours()[g];
-                        let [x, y, z] = turn4.as_ref().map_or(local, |m| m.apply(local));
-                        (
-                            [
-                                x + f32x4::splat(cm32.x),
-                                y + f32x4::splat(cm32.y),
-                                z + f32x4::splat(cm32.z),
-                            ],
-                            shared_slack4,
-                        )
+                        let offset = turn4.as_ref().map_or(local, |m| m.apply(local));
+                        ([0, 1, 2].map(|k| offset[k] + cm4[k]), shared_slack4)
                     } else {
                         let mut at = [[0.0f32; 4]; 3];
                         let mut slack = [shared_slack; 4];
@@ -653,16 +625,8 @@ fn swept_with(
                         }
                         (at.map(f32x4::from), f32x4::from(slack))
                     };
-                    if cull {
-                        let out = p[0].simd_lt(lo4[0])
-                            | p[0].simd_gt(hi4[0])
-                            | p[1].simd_lt(lo4[1])
-                            | p[1].simd_gt(hi4[1])
-                            | p[2].simd_lt(lo4[2])
-                            | p[2].simd_gt(hi4[2]);
-                        if (out.to_bitmask() | (0b1111 << count)) & 0b1111 == 0b1111 {
-                            continue;
-                        }
+                    if cull && (outside_box(p, lo4, hi4) | (0b1111 << count)) & 0b1111 == 0b1111 {
+                        continue;
                     }
                     // Nothing within reach over the whole interval: no search.
                     // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
@@ -791,6 +755,19 @@ fn swept_with(
             pairs_within(collider, drug, p, tol32)
         }),
     }
+}
+
+/// Bit `k` set when point `k` (x, y, z in lanes) lies outside the box
+/// `lo..hi` (each corner's coordinates in every lane, or per lane).
+#[inline(always)]
+fn outside_box(p: Lanes3, lo: Lanes3, hi: Lanes3) -> u32 {
+    let out = p[0].simd_lt(lo[0])
+        | p[0].simd_gt(hi[0])
+        | p[1].simd_lt(lo[1])
+        | p[1].simd_gt(hi[1])
+        | p[2].simd_lt(lo[2])
+        | p[2].simd_gt(hi[2]);
+    out.to_bitmask() & 0b1111
 }
 
 /// The intervals `first..past` (of `intervals` equal ones) during which the
