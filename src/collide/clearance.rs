@@ -358,30 +358,26 @@ impl Clearance {
         let big = f32x4::splat(f32::MAX);
         let finite = p[0].abs().simd_le(big) & p[1].abs().simd_le(big) & p[2].abs().simd_le(big);
         let beyond = usable & finite & !inside;
-        // In range and not negative: truncation is the floor. The nearest
-        // corner's offset from the point, in lattice units, and its index
-        // (exact in f32: below MAX_VERTICES = 2^24).
-        let half = f32x4::splat(0.5);
-        let one = f32x4::ONE;
+        // The nearest corner (rounded to nearest: inside, within 0 ..=
+        // last), the point's offset from it in lattice units, and its index
+        // (exact in f32: below MAX_VERTICES = 2^24). Which of two corners
+        // a point halfway between takes does not matter: the bounds below
+        // hold for any corner of its cell.
         let near = |u: f32x4| {
-            let cell = u.fast_trunc_int().round_float();
-            let frac = u - cell;
-            let up = one & frac.simd_ge(half);
-            (cell + up, frac - up)
+            let c = u.fast_round_int().round_float();
+            (c, u - c)
         };
         let (cx, ex) = near(u[0]);
         let (cy, ey) = near(u[1]);
         let (cz, ez) = near(u[2]);
-        let index = ((cz * ny + cy) * nx + cx).fast_trunc_int().to_array();
-        let ok = inside.to_bitmask();
-        let mut v = [0.0f32; 4];
-        for (k, v) in v.iter_mut().enumerate() {
-            if ok & (1 << k) != 0 {
-                // In range for inside lanes; a lane that is not stays 0.
-                *v = f32::from(self.values.get(index[k] as usize).copied().unwrap_or(0));
-            }
-        }
-        let room = f32x4::from(v) * f32x4::splat(1.0 / SCALE) - (d + f32x4::splat(ROUNDING));
+        // Lanes outside read vertex 0 (what they read is masked off below),
+        // so the four loads need no branch of their own.
+        let index = (((cz * ny + cy) * nx + cx) & inside)
+            .fast_trunc_int()
+            .to_array();
+        let value = |k: usize| i32::from(self.values.get(index[k] as usize).copied().unwrap_or(0));
+        let v = i32x4::from([value(0), value(1), value(2), value(3)]).round_float();
+        let room = v * f32x4::splat(1.0 / SCALE) - (d + f32x4::splat(ROUNDING));
         let e2 = (ex * ex + ey * ey + ez * ez) * step2;
         // value − need > spacing · distance, both sides squared (the left
         // positive), so no square roots.
