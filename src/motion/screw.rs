@@ -51,6 +51,11 @@ pub struct Screw {
 impl Screw {
     /// The screw motion taking `start` to `end`.
     pub fn between(start: Pose, end: Pose) -> Self {
+        // The usual step keeps the drug's orientation: no relative rotation
+        // to compute (a quaternion product, a normalisation and a length).
+        if end.rotation == start.rotation {
+            return Self::translation(start, end);
+        }
         let mut q = (end.rotation * start.rotation.conjugate()).normalize();
         if q.w < 0.0 {
             q = -q;
@@ -69,23 +74,18 @@ impl Screw {
         // a pure translation from a turned pose often leaves the relative
         // rotation a rounding error away from the identity, and treating
         // that as a screw would cost every query the screw's arithmetic.
-        let (axis, angle) = if angle > MIN_ANGLE && s.is_finite() {
-            (v / s, angle)
-        } else {
-            (DVec3::X, 0.0)
-        };
+        if !(angle > MIN_ANGLE && s.is_finite()) {
+            return Self::translation(start, end);
+        }
+        let axis = v / s;
         let d = end.translation - start.translation;
         let d_par = axis * axis.dot(d);
         let d_perp = d - d_par;
         let u_x_dperp = axis.cross(d_perp);
-        let (cot_half, v0) = if angle > 0.0 {
-            let half = 0.5 * angle;
-            let cot = half.cos() / half.sin();
-            // α'(0) = (θ/2)·cot(θ/2) → 1 as θ → 0; β'(0) = −θ/2.
-            (cot, d_par + d_perp * (half * cot) - u_x_dperp * half)
-        } else {
-            (0.0, d)
-        };
+        let half = 0.5 * angle;
+        let cot_half = half.cos() / half.sin();
+        // α'(0) = (θ/2)·cot(θ/2) → 1 as θ → 0; β'(0) = −θ/2.
+        let v0 = d_par + d_perp * (half * cot_half) - u_x_dperp * half;
         Self {
             start,
             end,
@@ -96,6 +96,25 @@ impl Screw {
             u_x_dperp,
             cot_half,
             v0,
+        }
+    }
+
+    /// The pure translation from `start` to `end` (their rotations equal,
+    /// or a turn too small to count apart): the axis is X, nominally.
+    fn translation(start: Pose, end: Pose) -> Self {
+        let d = end.translation - start.translation;
+        let d_par = DVec3::new(d.x, 0.0, 0.0);
+        let d_perp = d - d_par;
+        Self {
+            start,
+            end,
+            axis: DVec3::X,
+            angle: 0.0,
+            d_par,
+            d_perp,
+            u_x_dperp: DVec3::X.cross(d_perp),
+            cot_half: 0.0,
+            v0: d,
         }
     }
 
@@ -166,6 +185,13 @@ impl Screw {
         }
         if t == 1.0 {
             return self.end;
+        }
+        if self.angle == 0.0 {
+            // Nothing turns: no quaternion product and normalisation.
+            return Pose {
+                rotation: self.start.rotation,
+                translation: self.centre_at(t),
+            };
         }
         Pose {
             rotation: (self.rotation_at(t) * self.start.rotation).normalize(),
