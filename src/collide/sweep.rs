@@ -28,7 +28,8 @@
 //! step is the first root of a lower bound of `f` — the larger of the
 //! first-order bound (`|d'| ≤ s_i`) and a second-order one
 //! (`f'' ≥ 2 s_i² − 2 |x − q| θ s_i`, exact for pure translations, where the
-//! step lands on the closed-form time of impact). Steps never cross the root,
+//! step lands on the closed-form time of impact, so a translation takes that
+//! root at once). Steps never cross the root,
 //! so the stop time is collision-free; the target contact distance is raised by
 //! `tolerance/2` so rounding cannot turn "touching" into "colliding", and a
 //! pair stops the drug only while it is approaching, so a drug at rest in
@@ -158,8 +159,17 @@ impl TouchResult {
 pub const MAX_RELATIVE_COORDINATE: f64 = 2.0 * MAX_COORDINATE;
 
 /// True when `pose` is finite and within [`MAX_RELATIVE_COORDINATE`].
+#[inline]
 fn in_reach(pose: &Pose) -> bool {
-    pose.is_finite() && pose.translation.abs().max_element() <= MAX_RELATIVE_COORDINATE
+    // Every query asks this twice, so without `is_finite`'s seven tests:
+    // a comparison with NaN is false, so the bounds test the translation's
+    // finiteness too, and a quaternion's components times zero sum to zero
+    // exactly when all are finite (an infinity or NaN gives NaN).
+    let (r, t) = (pose.rotation, pose.translation.abs());
+    r.x * 0.0 + r.y * 0.0 + r.z * 0.0 + r.w * 0.0 == 0.0
+        && t.x <= MAX_RELATIVE_COORDINATE
+        && t.y <= MAX_RELATIVE_COORDINATE
+        && t.z <= MAX_RELATIVE_COORDINATE
 }
 
 /// Moves the drug from `start` towards `end` (both relative to the receptor)
@@ -368,6 +378,11 @@ impl Mover<'_> {
         } else {
             (dist, 0.0)
         };
+        if sc.is_translation() && dist > c {
+            return self
+                .first_touch_translating(s, x0 - q, dist, target, band, limit - t0)
+                .map(|tau| t0 + tau);
+        }
         let acc = self.angle * s; // bound on |x''| (centripetal θ²ρ ≤ θ·s)
         for _ in 0..MAX_PAIR_ITERATIONS {
             let gap = dist - target;
@@ -401,6 +416,53 @@ impl Mover<'_> {
         }
         Some(t)
     }
+
+    /// [`Mover::first_touch`] for a pure translation and a pair not yet in
+    /// contact, in closed form: how long after the window opens (`window`
+    /// long) the pair (`rel` apart, `dist = |rel|`) comes within `band` of
+    /// the `target` distance while approaching. `|rel + v·τ|²` is a
+    /// quadratic in `τ`, and its first root is where conservative
+    /// advancement lands (its second-order bound is exact here), without
+    /// the steps and their square roots and divisions in sequence.
+    ///
+    /// A pair that is not approaching now never will be (the derivative of
+    /// the squared distance only grows), so it stops nothing: its distance
+    /// is within 10⁻¹² relative of its least already. A root that is a
+    /// graze (equal roots) stops the drug at the target distance, as safe
+    /// as any other stop.
+    #[inline]
+    fn first_touch_translating(
+        &self,
+        s: f64,
+        rel: DVec3,
+        dist: f64,
+        target: f64,
+        band: f64,
+        window: f64,
+    ) -> Option<f64> {
+        let gap = dist - target;
+        // First-order bound: too far to come within tolerance in time.
+        if gap - s * window > band {
+            return None;
+        }
+        let v = self.screw.end().translation - self.screw.start().translation;
+        let fp = 2.0 * rel.dot(v);
+        // As `first_touch` (NaN is not approaching).
+        let approaching = fp < -1e-12 * s * dist.max(1.0);
+        if !approaching {
+            return None;
+        }
+        if gap <= band {
+            return Some(0.0);
+        }
+        // gap > band, so target = contact + band: the root keeps the
+        // whole margin (10⁻⁵ Å at least) against rounding.
+        let f = gap * (dist + target);
+        let disc = fp * fp - 4.0 * (s * s) * f;
+        let tau = 2.0 * f / (-fp + disc.sqrt());
+        // No root (NaN) or beyond the window: no touch in time.
+        (tau < window).then_some(tau)
+    }
 }
 
 /// The swept method. Every static question it answers (the start's
@@ -409,10 +471,19 @@ impl Mover<'_> {
 /// candidate of the first interval, every pair within reach at the end one of
 /// the last.
 fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> TouchResult {
+    // A translation gets its own copy of the search, with every branch
+    // between the two kinds of motion decided at compile time.
+    let run = |scratch: &mut Scratch| {
+        if screw.is_translation() {
+            swept_with::<true>(scratch, collider, drug, screw, tol)
+        } else {
+            swept_with::<false>(scratch, collider, drug, screw, tol)
+        }
+    };
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut scratch) => swept_with(&mut scratch, collider, drug, screw, tol),
+        Ok(mut scratch) => run(&mut scratch),
         // Re-entered from inside a query (never, today): fresh buffers.
-        Err(_) => swept_with(&mut Scratch::default(), collider, drug, screw, tol),
+        Err(_) => run(&mut Scratch::default()),
     })
 }
 
@@ -432,8 +503,9 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
 }
 
-/// [`swept`] with its working buffers.
-fn swept_with(
+/// [`swept`] with its working buffers, for a pure translation
+/// (`TRANSLATION`, which `screw` must be) or a screw.
+fn swept_with<const TRANSLATION: bool>(
     scratch: &mut Scratch,
     collider: &Collider,
     drug: &DrugAtoms,
@@ -449,7 +521,8 @@ fn swept_with(
     let start = *screw.start();
     let n = drug.len();
     speeds.clear();
-    let translation = screw.is_translation();
+    debug_assert_eq!(TRANSLATION, screw.is_translation());
+    let translation = TRANSLATION;
     let s_max = if translation {
         // A pure translation: every atom has the centre's speed (the same
         // value `Screw::speed` gives each, without a square root per atom;
@@ -873,7 +946,9 @@ pub fn turn(axis: DVec3, degrees: f64) -> DQuat {
 
 #[cfg(test)]
 mod tests {
-    use super::{ceil, floor};
+    use super::{MAX_RELATIVE_COORDINATE, ceil, floor, in_reach};
+    use crate::motion::Pose;
+    use glam::{DQuat, DVec3};
 
     #[test]
     fn floor_and_ceil_are_the_library_ones() {
@@ -904,5 +979,34 @@ mod tests {
             assert_eq!(ceil(x), x.ceil(), "ceil {x}");
         }
         assert!(floor(f64::NAN).is_nan() && ceil(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn in_reach_is_finite_and_within_bounds() {
+        let max = MAX_RELATIVE_COORDINATE;
+        let turned = DQuat::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 2.0);
+        for (t, ok) in [
+            (DVec3::ZERO, true),
+            (DVec3::new(-max, max, 0.0), true),
+            (DVec3::new(0.0, 0.0, -max * (1.0 + 1e-15)), false),
+            (DVec3::new(0.0, f64::NAN, 0.0), false),
+            (DVec3::new(f64::INFINITY, 0.0, 0.0), false),
+            (DVec3::new(0.0, 0.0, f64::NEG_INFINITY), false),
+        ] {
+            for r in [DQuat::IDENTITY, turned] {
+                let pose = Pose::new(r, t);
+                let expected = pose.is_finite() && pose.translation.abs().max_element() <= max;
+                assert_eq!(expected, ok, "{t}");
+                assert_eq!(in_reach(&pose), ok, "{t} {r}");
+            }
+        }
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for k in 0..4 {
+                let mut q = [0.0, 0.0, 0.0, 1.0];
+                q[k] = bad;
+                let pose = Pose::new(DQuat::from_array(q), DVec3::ZERO);
+                assert!(!in_reach(&pose), "{q:?}");
+            }
+        }
     }
 }
