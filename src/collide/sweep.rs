@@ -456,7 +456,8 @@ impl Mover<'_> {
             return Some(0.0);
         }
         // gap > band, so target = contact + band: the root keeps the
-        // whole margin (10⁻⁵ Å at least) against rounding.
+        // whole band (half the tolerance, 5·10⁻⁶ Å at least) against
+        // rounding.
         let f = gap * (dist + target);
         let disc = fp * fp - 4.0 * (s * s) * f;
         let tau = 2.0 * f / (-fp + disc.sqrt());
