@@ -333,6 +333,8 @@ struct Mover<'a> {
     screw: &'a Screw,
     angle: f64,
     half_tol: f64,
+    /// The end's translation less the start's: a translation's velocity.
+    slide: DVec3,
 }
 
 impl Mover<'_> {
@@ -445,8 +447,7 @@ impl Mover<'_> {
         if gap - s * window > band {
             return None;
         }
-        let v = self.screw.end().translation - self.screw.start().translation;
-        let fp = 2.0 * rel.dot(v);
+        let fp = 2.0 * rel.dot(self.slide);
         // As `first_touch` (NaN is not approaching).
         let approaching = fp < -1e-12 * s * dist.max(1.0);
         if !approaching {
@@ -551,6 +552,7 @@ fn swept_with<const TRANSLATION: bool>(
         screw,
         angle: screw.angle(),
         half_tol: 0.5 * tol,
+        slide: screw.end().translation - screw.start().translation,
     };
     // Equal base intervals in which no atom moves more than `sweep` (a
     // rounding error over a whole number of them does not add a sliver);
@@ -638,15 +640,10 @@ fn swept_with<const TRANSLATION: bool>(
                 }
             }
         } else {
-            // A translation turns nothing: no rotation matrices to build.
-            let turned = |t: f64| {
-                if translation {
-                    DMat3::IDENTITY
-                } else {
-                    DMat3::from_quat(screw.rotation_at(t))
-                }
-            };
-            let rot_m = turned(tm);
+            // A translation turns nothing: no rotation matrices to build
+            // (nor products by the identity, which would change nothing).
+            let turned = |t: f64| (!translation).then(|| DMat3::from_quat(screw.rotation_at(t)));
+            let rot_m = turned(tm).unwrap_or(DMat3::IDENTITY);
             // Four atoms at a time: their group's ball against the grown box
             // (a translation), the atoms placed and against the box, then
             // against the map's nearest corners together; only those it
@@ -778,7 +775,7 @@ fn swept_with<const TRANSLATION: bool>(
                     q,
                     f64::from(k.contact),
                     ta,
-                    rot_a * y + cen_a,
+                    rot_a.map_or(y, |m| m * y) + cen_a,
                     || x_end(i),
                     limit,
                 ) && th < t_hit
