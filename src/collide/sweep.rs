@@ -52,7 +52,7 @@ use glam::{DMat3, DQuat, DVec3, Vec3};
 use serde::Serialize;
 use wide::f32x4;
 
-use super::check::{Pair, check, pairs_within, sort_pairs};
+use super::check::{Pair, check, pairs_within};
 use super::clearance::Nearest4;
 use super::collider::{Collider, unpack_meta};
 use super::drug::{Balls4, DrugAtoms, Lanes3, Turn4};
@@ -254,17 +254,22 @@ struct Candidate {
 /// (colliding), sorted: the static rule applied to a candidate list. Only
 /// the candidates' drug atoms are placed, each once (a drug atom's
 /// candidates are consecutive).
+///
+/// `found` is a working buffer: the lists are gathered there and copied out
+/// at their exact sizes, so each takes one allocation (none when empty)
+/// rather than a vector's growth by reallocation.
 fn pairs_among(
     cands: &[Candidate],
     drug: &DrugAtoms,
     pose: &Pose,
     extra: f32,
+    found: &mut Vec<(Pair, bool)>,
 ) -> (Vec<Pair>, Vec<Pair>) {
     // An unturned drug (the usual pose) is placed without a rotation
     // matrix: the identity's products are exact, so the positions are the
     // same.
     let m = (pose.rotation != DQuat::IDENTITY).then(|| DMat3::from_quat(pose.rotation));
-    let (mut within, mut colliding) = (Vec::new(), Vec::new());
+    found.clear();
     let mut placed: Option<(u32, Vec3)> = None;
     for k in cands {
         let x = match placed {
@@ -288,15 +293,24 @@ fn pairs_among(
                 distance: d2.sqrt(),
                 contact: k.contact,
             };
-            within.push(pair);
-            if k.contact >= 0.0 && d2 <= k.contact * k.contact {
-                colliding.push(pair);
-            }
+            found.push((pair, k.contact >= 0.0 && d2 <= k.contact * k.contact));
         }
     }
-    sort_pairs(&mut within);
-    sort_pairs(&mut colliding);
+    found.sort_unstable_by_key(|(p, _)| (p.receptor, p.drug));
+    let within = found.iter().map(|(p, _)| *p).collect();
+    let colliding = found.iter().filter(|(_, c)| *c).map(|(p, _)| *p).collect();
     (within, colliding)
+}
+
+/// False only when the static rule ([`pairs_among`], in f32) cannot find
+/// the drug atom at `x` (f64) colliding with the receptor atom at `q`
+/// (contact distance `c`): their distance exceeds `c` by more than the f32
+/// rounding of the atom's coordinates and of the distance (a few units in
+/// the 24th bit of `|x|` and of `c`), with a wide margin.
+#[inline]
+fn may_collide(x: DVec3, q: DVec3, c: f64) -> bool {
+    let lim = c + 1e-4 + 1e-6 * (x.abs().max_element() + c.abs());
+    lim >= 0.0 && (x - q).length_squared() <= lim * lim
 }
 
 /// Smallest positive root of `f + b·τ + a·τ²` (with `f ≥ 0`), or infinity.
@@ -499,6 +513,7 @@ struct Scratch {
     speeds: Vec<f64>,
     cands: Vec<Candidate>,
     balls: Vec<Balls4>,
+    found: Vec<(Pair, bool)>,
 }
 
 thread_local! {
@@ -519,6 +534,7 @@ fn swept_with<const TRANSLATION: bool>(
         speeds,
         cands,
         balls,
+        found,
     } = scratch;
     let start = *screw.start();
     let n = drug.len();
@@ -570,7 +586,14 @@ fn swept_with<const TRANSLATION: bool>(
         blo.as_dvec3() - DVec3::splat(margin),
         bhi.as_dvec3() + DVec3::splat(margin),
     );
-    let (first, past) = near_box(screw, blo, bhi, drug.extent, intervals);
+    // A step of one or two intervals visits them all: each interval's own
+    // box test (below) skips one the drug cannot reach, and `near_box`'s
+    // square root and divisions in sequence would hold up the search.
+    let (first, past) = if intervals <= 2.0 {
+        (0.0, intervals)
+    } else {
+        near_box(screw, blo, bhi, drug.extent, intervals)
+    };
     // A translation places the atoms four at a time from their offsets at
     // the start, in lanes (a screw places each in f64): the drug's own for
     // an unturned drug, else turned group by group, only for the groups
@@ -587,10 +610,9 @@ fn swept_with<const TRANSLATION: bool>(
 
     // End positions are needed only for pairs that overlap at an interval's
     // start (rare), so they (and their rotation matrix) are computed on
-    // demand.
-    let x_end = |i: usize| {
-        DMat3::from_quat(screw.end().rotation) * drug.local[i].as_dvec3() + screw.end().translation
-    };
+    // demand, out of line: inlined, the matrix was hoisted out of the loop
+    // and built for every query.
+    let x_end = |i: usize| end_position(screw, drug, i);
     // Atom `i`'s offset from the centre at the start: the value
     // `DrugAtoms::rotated_into` gives it (a screw has them all in `ys`).
     let start_rot = (translation && start.rotation != DQuat::IDENTITY)
@@ -751,9 +773,6 @@ fn swept_with<const TRANSLATION: bool>(
                     }
                 }
             }
-            if ta == 0.0 {
-                start_colliding = pairs_among(cands, drug, &start, 0.0).1;
-            }
             // A screw's second-order bound depends on how far ahead the
             // earliest touch found so far is, so a pair's computed touch
             // time can depend (in its last bits) on the order the pairs
@@ -764,24 +783,31 @@ fn swept_with<const TRANSLATION: bool>(
             // Positions at `ta` only for the atoms with candidates.
             let rot_a = turned(ta);
             let cen_a = screw.centre_at(ta);
+            // Whether a pair may collide at the start (first interval only).
+            let mut near_start = false;
             for k in cands.iter() {
                 let i = k.drug as usize;
                 let limit = t_hit.min(tb);
                 let q = k.q.as_dvec3();
                 let y = y_of(ys, i);
-                if let Some(th) = mover.first_touch(
-                    y,
-                    speed_of(speeds, i),
-                    q,
-                    f64::from(k.contact),
-                    ta,
-                    rot_a.map_or(y, |m| m * y) + cen_a,
-                    || x_end(i),
-                    limit,
-                ) && th < t_hit
+                let c = f64::from(k.contact);
+                let x0 = rot_a.map_or(y, |m| m * y) + cen_a;
+                if ta == 0.0 {
+                    near_start |= may_collide(x0, q, c);
+                }
+                if let Some(th) =
+                    mover.first_touch(y, speed_of(speeds, i), q, c, ta, x0, || x_end(i), limit)
+                    && th < t_hit
                 {
                     t_hit = th;
                 }
+            }
+            // The start's collisions by the static (f32) rule, looked for
+            // only when a pair comes near contact at the start (rarely: a
+            // query usually starts where the last one stopped, in contact
+            // within tolerance but not colliding).
+            if near_start {
+                start_colliding = pairs_among(cands, drug, &start, 0.0, found).1;
             }
         }
         if t_hit <= tb {
@@ -812,7 +838,7 @@ fn swept_with<const TRANSLATION: bool>(
     let mut contacts: Option<Vec<Pair>>;
     loop {
         let colliding = if t >= last_ta {
-            let (within, colliding) = pairs_among(cands, drug, &pose, tol32);
+            let (within, colliding) = pairs_among(cands, drug, &pose, tol32, found);
             contacts = Some(within);
             colliding
         } else {
@@ -833,6 +859,13 @@ fn swept_with<const TRANSLATION: bool>(
             pairs_within(collider, drug, p, tol32)
         }),
     }
+}
+
+/// Where drug atom `i` is at the end of the motion (f64).
+#[cold]
+#[inline(never)]
+fn end_position(screw: &Screw, drug: &DrugAtoms, i: usize) -> DVec3 {
+    DMat3::from_quat(screw.end().rotation) * drug.local[i].as_dvec3() + screw.end().translation
 }
 
 /// Bit `k` set when point `k` (x, y, z in lanes) lies outside the box
