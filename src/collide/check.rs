@@ -9,8 +9,11 @@
 //! Results are sorted by receptor atom, then drug atom, so every collider gives
 //! the same list.
 
+use glam::{DMat3, Vec3};
 use serde::Serialize;
+use wide::f32x4;
 
+use super::clearance::Nearest4;
 use super::collider::{Collider, unpack_meta};
 use super::drug::DrugAtoms;
 use crate::motion::Pose;
@@ -59,44 +62,83 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
     mut f: F,
 ) {
     let clearance = collider.clearance();
-    for (i, x) in drug.placed(rel).enumerate() {
-        // Nothing within `c + extra` of this atom: no search.
-        if clearance.is_some_and(|map| map.clear(x, drug.own(i) + extra.max(0.0))) {
-            continue;
+    let extra_room = extra.max(0.0);
+    let n = drug.len();
+    // As `DrugAtoms::placed` places them.
+    let (m, t) = (DMat3::from_quat(rel.rotation), rel.translation);
+    for g in 0..n.div_ceil(4) {
+        // Four atoms at a time against the map's nearest corners, in lanes
+        // (as move-to-touch does; a third of a check's instructions went to
+        // testing one atom at a time), then the eight corners for those it
+        // leaves open; an atom neither proves clear is searched.
+        let count = (n - 4 * g).min(4);
+        let mut at = [Vec3::ZERO; 4];
+        for (l, x) in at.iter_mut().enumerate().take(count) {
+            *x = drug.place(&m, t, 4 * g + l);
         }
-        let far = drug.reach[i] + extra.max(0.0);
-        let mut go_on = true;
-        collider.near(x, far, |a, meta, d2| {
+        // Nothing within `c + extra` of an atom: no search.
+        let d = drug.own_four(g).map(|own| own + extra_room);
+        let Nearest4 { proved, open } = clearance.map_or(Nearest4 { proved: 0, open: 0 }, |map| {
+            let lanes = |k: usize| f32x4::from(at.map(|x| x[k]));
+            map.clear_nearest4([lanes(0), lanes(1), lanes(2)], f32x4::from(d))
+        });
+        for (l, &x) in at.iter().enumerate().take(count) {
+            if proved & (1 << l) != 0
+                || (open & (1 << l) != 0 && clearance.is_some_and(|map| map.clear_corners(x, d[l])))
+            {
+                continue;
+            }
+            let i = 4 * g + l;
+            let far = drug.reach[i] + extra_room;
+            let mut go_on = true;
+            collider.near(x, far, |a, meta, d2| {
+                if !go_on {
+                    return;
+                }
+                let (j, polar) = unpack_meta(meta);
+                let c = drug.contact(i, a.w, polar);
+                let lim = c + extra;
+                if lim >= 0.0 && d2 <= lim * lim {
+                    go_on = f(Pair {
+                        receptor: j,
+                        drug: i as u32,
+                        distance: d2.sqrt(),
+                        contact: c,
+                    });
+                }
+            });
             if !go_on {
                 return;
             }
-            let (j, polar) = unpack_meta(meta);
-            let c = drug.contact(i, a.w, polar);
-            let lim = c + extra;
-            if lim >= 0.0 && d2 <= lim * lim {
-                go_on = f(Pair {
-                    receptor: j,
-                    drug: i as u32,
-                    distance: d2.sqrt(),
-                    contact: c,
-                });
-            }
-        });
-        if !go_on {
-            return;
         }
     }
 }
 
 /// All pairs with `d ≤ c + extra` (`extra = 0`: the colliding pairs), sorted.
 pub fn pairs_within(collider: &Collider, drug: &DrugAtoms, rel: &Pose, extra: f32) -> Vec<Pair> {
-    let mut out = Vec::new();
-    visit_pairs(collider, drug, rel, extra, |p| {
-        out.push(p);
-        true
-    });
-    sort_pairs(&mut out);
-    out
+    // Gathered in a per-thread buffer and copied out at their exact size:
+    // one allocation (none when there are no pairs) instead of a vector's
+    // growth by reallocation, which took a quarter of a check's
+    // instructions with six pairs.
+    let gather = |found: &mut Vec<Pair>| {
+        found.clear();
+        visit_pairs(collider, drug, rel, extra, |p| {
+            found.push(p);
+            true
+        });
+        sort_pairs(found);
+        found.to_vec()
+    };
+    FOUND.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut found) => gather(&mut found),
+        // Re-entered (never, today): a fresh buffer.
+        Err(_) => gather(&mut Vec::new()),
+    })
+}
+
+thread_local! {
+    /// [`pairs_within`]'s working buffer.
+    static FOUND: std::cell::RefCell<Vec<Pair>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// The colliding pairs at `rel`, sorted by receptor atom then drug atom.
