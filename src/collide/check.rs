@@ -68,8 +68,8 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
     let (m, t) = (DMat3::from_quat(rel.rotation), rel.translation);
     for g in 0..n.div_ceil(4) {
         // Four atoms at a time against the map's nearest corners, in lanes
-        // (as move-to-touch does; a third of a check's instructions went to
-        // testing one atom at a time), then the eight corners for those it
+        // (as move-to-touch does; testing one atom at a time took a quarter
+        // of a check's instructions), then the eight corners for those it
         // leaves open; an atom neither proves clear is searched.
         let count = (n - 4 * g).min(4);
         let mut at = [Vec3::ZERO; 4];
