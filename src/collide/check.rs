@@ -78,7 +78,7 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
         }
         // Nothing within `c + extra` of an atom: no search.
         let d = drug.own_four(g).map(|own| own + extra_room);
-        let Nearest4 { proved, open } = clearance.map_or(Nearest4 { proved: 0, open: 0 }, |map| {
+        let Nearest4 { proved, open } = clearance.map_or(Nearest4::NONE, |map| {
             let lanes = |k: usize| f32x4::from(at.map(|x| x[k]));
             map.clear_nearest4([lanes(0), lanes(1), lanes(2)], f32x4::from(d))
         });

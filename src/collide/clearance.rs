@@ -57,6 +57,12 @@ pub struct Nearest4 {
     pub open: u32,
 }
 
+impl Nearest4 {
+    /// Nothing proved and nothing left for the eight corners: what a
+    /// collider without a map (yet) gets, so every point is searched.
+    pub const NONE: Self = Self { proved: 0, open: 0 };
+}
+
 /// True when a threshold `d` is one the map can prove: positive (a corner
 /// stored as 0 may be inside an atom, and proves nothing, as it should not)
 /// and below the cap.
@@ -201,6 +207,10 @@ impl Clearance {
     /// True when every receptor atom's surface is farther than `d` from `x`
     /// (`|x − q_j| − r_j > d` for all `j`), as far as the map can prove it;
     /// false when it cannot (or for `d ≤ 0`, `d ≥ CAP`, or a NaN).
+    ///
+    /// The queries ask four points at a time
+    /// ([`Clearance::clear_nearest4`], then [`Clearance::clear_corners`]);
+    /// this one-point form is their reference in the tests below.
     #[inline(always)]
     pub fn clear(&self, x: Vec3, d: f32) -> bool {
         if !usable(d) {

@@ -731,10 +731,8 @@ fn swept_with<const TRANSLATION: bool>(
                     // Nothing within reach over the whole interval: no search.
                     // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
                     let d = f32x4::from(drug.own_four(g)) + slack;
-                    let Nearest4 { proved, open } = clearance
-                        .map_or(Nearest4 { proved: 0, open: 0 }, |map| {
-                            map.clear_nearest4(p, d)
-                        });
+                    let Nearest4 { proved, open } =
+                        clearance.map_or(Nearest4::NONE, |map| map.clear_nearest4(p, d));
                     if proved == (1 << count) - 1 {
                         continue;
                     }
@@ -977,9 +975,60 @@ pub fn turn(axis: DVec3, degrees: f64) -> DQuat {
 
 #[cfg(test)]
 mod tests {
-    use super::{MAX_RELATIVE_COORDINATE, ceil, floor, in_reach};
+    use super::{MAX_RELATIVE_COORDINATE, ceil, floor, in_reach, may_collide};
     use crate::motion::Pose;
-    use glam::{DQuat, DVec3};
+    use glam::{DQuat, DVec3, Vec3};
+
+    /// The start's static-rule collisions are looked for only where
+    /// `may_collide` says so: it must hold for every pair the f32 rule
+    /// (`pairs_among`: the f64 position rounded to f32, the squared
+    /// distance against the squared contact distance in f32) finds
+    /// colliding, at any coordinates a query accepts, and still leave out
+    /// pairs plainly apart.
+    #[test]
+    fn may_collide_holds_wherever_the_f32_rule_collides() {
+        let mut rng = crate::rng::Rng(11);
+        let (mut colliding, mut apart) = (0, 0);
+        for scale in [1.0, 50.0, 500.0, 1e4, MAX_RELATIVE_COORDINATE] {
+            for _ in 0..2_000 {
+                let q = Vec3::new(
+                    rng.range(-scale, scale) as f32,
+                    rng.range(-scale, scale) as f32,
+                    rng.range(-scale, scale) as f32,
+                );
+                let dir = DVec3::new(
+                    rng.range(-1.0, 1.0),
+                    rng.range(-1.0, 1.0),
+                    rng.range(-1.0, 1.0),
+                )
+                .normalize_or(DVec3::X);
+                let c = rng.range(0.5, 4.0) as f32;
+                let cd = f64::from(c);
+                let ulp = f64::EPSILON * 2f64.powi(29) * cd;
+                for d in (-8..=8).map(|k| cd + f64::from(k) * ulp).chain([
+                    cd - 1e-5,
+                    cd + 1e-6,
+                    cd + 1e-5,
+                    cd + 1e-4,
+                    cd + 1e-3,
+                ]) {
+                    let x0 = q.as_dvec3() + dir * d;
+                    let d2 = (q - x0.as_vec3()).length_squared();
+                    if d2 <= c * c {
+                        colliding += 1;
+                        assert!(may_collide(x0, q.as_dvec3(), cd), "{q} {x0} {c}");
+                    }
+                }
+                // 0.01 Å apart near the receptor's own coordinates: left out.
+                if scale <= 500.0 {
+                    let x0 = q.as_dvec3() + dir * (cd + 0.01);
+                    assert!(!may_collide(x0, q.as_dvec3(), cd), "{q} {x0} {c}");
+                    apart += 1;
+                }
+            }
+        }
+        assert!(colliding > 10_000 && apart == 6_000, "{colliding} {apart}");
+    }
 
     #[test]
     fn floor_and_ceil_are_the_library_ones() {
