@@ -48,6 +48,10 @@ pub struct Balls4 {
     pub centre: Lanes3,
     /// Radii.
     pub radius: f32x4,
+    /// Radii plus the largest [`DrugAtoms::own`] in the group (−∞ past
+    /// the last group): the clearance the ball's centre needs for none of
+    /// its atoms to have a receptor atom within its own reach.
+    pub reach: f32x4,
 }
 
 /// `f` of up to four items in SIMD lanes, `pad` in the lanes past them.
@@ -121,10 +125,11 @@ impl DrugAtoms {
             .chunks(4)
             .map(|c| [0, 1, 2].map(|axis| lanes(c, |p| p[axis], 0.0)))
             .collect();
-        let balls: Vec<(Vec3, f32)> = drug
+        let balls: Vec<(Vec3, f32, f32)> = drug
             .local
             .chunks(4)
-            .map(|c| {
+            .zip(own.chunks(4))
+            .map(|(c, own)| {
                 let lo = c.iter().fold(Vec3::INFINITY, |a, p| a.min(*p));
                 let hi = c.iter().fold(Vec3::NEG_INFINITY, |a, p| a.max(*p));
                 let centre = 0.5 * (lo + hi);
@@ -134,7 +139,9 @@ impl DrugAtoms {
                     .fold(0.0, f64::max);
                 // Rounded up past f32's rounding of the radius and of the
                 // centre's rotation.
-                (centre, (r * (1.0 + 1e-6) + 1e-5) as f32)
+                let r = (r * (1.0 + 1e-6) + 1e-5) as f32;
+                let own = own.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+                (centre, r, r + own)
             })
             .collect();
         let group_balls = balls
@@ -142,6 +149,7 @@ impl DrugAtoms {
             .map(|c| Balls4 {
                 centre: [0, 1, 2].map(|axis| lanes(c, |b| b.0[axis], 0.0)),
                 radius: lanes(c, |b| b.1, f32::NEG_INFINITY),
+                reach: lanes(c, |b| b.2, f32::NEG_INFINITY),
             })
             .collect();
         let reach: Vec<f32> = own.iter().map(|o| o + receptor_max_radius).collect();
@@ -234,7 +242,7 @@ impl DrugAtoms {
         out.clear();
         out.extend(self.group_balls.iter().map(|b| Balls4 {
             centre: turn.apply(b.centre),
-            radius: b.radius,
+            ..*b
         }));
     }
 
@@ -326,9 +334,22 @@ mod tests {
         }
     }
 
+    /// The largest `own` of each group of four atoms.
+    fn own_of_groups(drug: &DrugAtoms) -> Vec<f32> {
+        (0..drug.len())
+            .step_by(4)
+            .map(|first| {
+                (first..(first + 4).min(drug.len()))
+                    .map(|i| drug.own(i))
+                    .fold(f32::NEG_INFINITY, f32::max)
+            })
+            .collect()
+    }
+
     /// The lanes of `own_four` are `own` in order, padded with −∞ (which
     /// the clearance map never proves) past the last atom; polar atoms
-    /// keep the larger of their two contact distances.
+    /// keep the larger of their two contact distances; a group's ball
+    /// reaches its radius plus the largest of its atoms'.
     #[test]
     fn own_fours_are_own_in_lanes() {
         let rule = ContactRule::default();
@@ -343,6 +364,12 @@ mod tests {
                 .collect();
             let pos: Vec<DVec3> = (0..n).map(|k| DVec3::X * (2.0 * k as f64)).collect();
             let drug = DrugAtoms::new(&Molecule::new("d", atoms, &pos), &rule, 1.8);
+            // Each group's ball reach is its radius plus its largest own.
+            for (g, own) in own_of_groups(&drug).iter().enumerate() {
+                let b = &drug.group_balls()[g / 4];
+                let (radius, reach) = (b.radius.to_array()[g % 4], b.reach.to_array()[g % 4]);
+                assert_eq!(reach, radius + own, "group {g} of {n}");
+            }
             for i in 0..n.div_ceil(4) * 4 {
                 let lane = drug.own_four(i / 4)[i % 4];
                 if i < n {
