@@ -14,7 +14,7 @@ use glam::{DMat3, DQuat, DVec3, Vec3};
 use serde::Serialize;
 use wide::f32x4;
 
-use super::clearance::Nearest4;
+use super::clearance::{Clearance, Nearest4};
 use super::collider::{Collider, unpack_meta};
 use super::drug::{DrugAtoms, Turn4};
 use crate::motion::Pose;
@@ -89,7 +89,7 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
         while todo != 0 {
             let g = 4 * s + todo.trailing_zeros() as usize;
             todo &= todo - 1;
-            if !visit_group(collider, drug, (&m, t), g, extra, &mut f) {
+            if !visit_group(collider, clearance, drug, (&m, t), g, extra, &mut f) {
                 return;
             }
         }
@@ -97,17 +97,18 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
 }
 
 /// [`visit_pairs`] for the atoms of group `g` (`4g ..`), placed by `(m,
-/// t)`; false when `f` asked to stop.
+/// t)`, with the collider's map as `visit_pairs` looked it up once; false
+/// when `f` asked to stop.
 #[inline(always)]
 fn visit_group<F: FnMut(Pair) -> bool>(
     collider: &Collider,
+    clearance: Option<&Clearance>,
     drug: &DrugAtoms,
     (m, t): (&DMat3, DVec3),
     g: usize,
     extra: f32,
     f: &mut F,
 ) -> bool {
-    let clearance = collider.clearance();
     let extra_room = extra.max(0.0);
     // Four atoms at a time against the map's nearest corners, in lanes (as
     // move-to-touch does; testing one atom at a time took a quarter of a

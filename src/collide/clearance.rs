@@ -223,14 +223,19 @@ impl Clearance {
     /// Builds the map for atoms given as centre and radius (receptor frame).
     /// `None` for no atoms.
     pub fn build(atoms: &[Vec4]) -> Option<Self> {
+        // Atoms with a NaN anywhere (which no loaded file has) are left
+        // out: they would lower no value, but would spoil the box below
+        // (a SIMD minimum with NaN takes the other operand) and the order
+        // by z that the slabs search.
+        let mut by_z: Vec<Vec4> = atoms.iter().copied().filter(|a| a.is_finite()).collect();
         let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         let mut max_radius = 0.0f32;
-        for a in atoms {
+        for a in &by_z {
             lo = lo.min(a.truncate());
             hi = hi.max(a.truncate());
             max_radius = max_radius.max(a.w);
         }
-        if atoms.is_empty() || !(lo.is_finite() && hi.is_finite() && max_radius.is_finite()) {
+        if by_z.is_empty() || !(lo.is_finite() && hi.is_finite() && max_radius.is_finite()) {
             return None;
         }
         let mut spacing = FINEST;
@@ -253,8 +258,9 @@ impl Clearance {
         // least of the rounded values is the rounded least. Slabs of a few
         // planes along z, each with the atoms (sorted by z) that reach it,
         // are filled by every core, each taking the next slab left.
-        let mut values = vec![quantize(CAP); nx * ny * nz];
-        let mut by_z = atoms.to_vec();
+        // Every slab is filled below (or the build panics); 0 proves
+        // nothing, should one not be.
+        let mut values = vec![0u8; nx * ny * nz];
         by_z.sort_unstable_by(|a, b| a.z.total_cmp(&b.z));
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(8));
         let planes = slab_planes(nx, ny);
@@ -571,6 +577,31 @@ mod tests {
             }
         }
         assert!(below_cap > 1000, "{below_cap}");
+    }
+
+    /// Atoms with NaN coordinates or radius (either sign of NaN, which
+    /// sorts first or last) among real ones change neither the lattice nor
+    /// any stored value.
+    #[test]
+    fn nan_atoms_change_nothing() {
+        let mut rng = Rng(9);
+        let atoms = random_atoms(&mut rng, 80, 12.0);
+        let clean = Clearance::build(&atoms).expect("atoms");
+        let mut mixed = atoms.clone();
+        for (k, bad) in [
+            Vec4::new(0.0, 0.0, -f32::NAN, 1.5),
+            Vec4::new(1.0, f32::NAN, f32::NAN, 1.5),
+            Vec4::new(2.0, 2.0, 2.0, f32::NAN),
+            Vec4::new(-3.0, 1.0, f32::NAN, 1.7),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            mixed.insert(k * 20, bad);
+        }
+        let map = Clearance::build(&mixed).expect("atoms");
+        assert_eq!(map.dims, clean.dims);
+        assert!(map.values == clean.values, "a NaN atom changed the map");
     }
 
     /// Random atoms, random points and thresholds: whenever the map says
