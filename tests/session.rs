@@ -368,3 +368,81 @@ fn highlight_changes_are_exactly_the_atoms_that_changed() {
     assert_eq!(cleared, lit);
     assert!(lit.iter().all(|&(k, i)| !s.is_highlighted(k, i)));
 }
+
+/// World positions of body `b`'s atoms.
+fn world(s: &Session, b: usize) -> Vec<DVec3> {
+    let body = &s.bodies()[b];
+    body.molecule
+        .local
+        .iter()
+        .map(|x| body.pose.transform_point(x.as_dvec3()))
+        .collect()
+}
+
+#[test]
+fn a_turned_and_moved_receptor_stops_the_drug_at_contact_where_it_stands() {
+    // The receptor's collider is built once, in its own frame; the drug is
+    // queried in that frame wherever the receptor stands. Turn and move the
+    // rings (collision off), then push the E at them in steps (collision
+    // on): no pose may overlap, and the contacts must be every pair within
+    // tolerance of contact by the rule applied to world coordinates.
+    let mut s = builtin_session();
+    s.step(&commands(&[Command::ToggleMode, Command::Select(0)]), 0.0);
+    s.step(
+        &commands(&[Command::MoveBy {
+            translate: DVec3::new(3.0, -2.0, 1.0),
+            axis: DVec3::new(1.0, 2.0, 0.5),
+            degrees: 23.0,
+        }]),
+        0.0,
+    );
+    s.step(
+        &commands(&[Command::Select(1), Command::ToggleCollision]),
+        0.0,
+    );
+    let rule = s.settings().rule;
+    let tol = s.settings().touch.tolerance as f32;
+    let to_rings = s.bodies()[0].pose.translation - s.bodies()[1].pose.translation;
+    let mut blocked = 0;
+    for _ in 0..60 {
+        let out = s.step(&push(to_rings.normalize() * 0.5), 0.0);
+        blocked += usize::from(out.t < 1.0);
+        let (rings, e) = (world(&s, 0), world(&s, 1));
+        let (ra, ea) = (&s.bodies()[0].molecule.atoms, &s.bodies()[1].molecule.atoms);
+        let mut want = Vec::new();
+        for (i, x) in e.iter().enumerate() {
+            for (j, q) in rings.iter().enumerate() {
+                let c = rule.contact_distance(ea[i].radius, ea[i].polar, ra[j].radius, ra[j].polar);
+                let d = (*x - *q).length() as f32;
+                assert!(d > c - 1e-4, "E atom {i} overlaps ring atom {j}: {d} < {c}");
+                // Pairs clearly inside or outside the band (f32 rounding
+                // of the frames aside) must be reported as such.
+                if d <= c + tol - 1e-4 {
+                    want.push((i, j));
+                }
+            }
+        }
+        let got: Vec<(usize, usize)> = out
+            .contacts
+            .iter()
+            .map(|c| (c.moving.1, c.other.1))
+            .collect();
+        for p in &want {
+            assert!(
+                got.contains(p),
+                "pair {p:?} within tolerance but not reported"
+            );
+        }
+        assert!(
+            out.contacts
+                .iter()
+                .all(|c| c.moving.0 == 1 && c.other.0 == 0)
+        );
+        assert!(
+            out.contacts
+                .iter()
+                .all(|c| c.distance <= c.contact + tol + 1e-4)
+        );
+    }
+    assert!(blocked > 0, "the E never reached the turned rings");
+}

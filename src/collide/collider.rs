@@ -374,9 +374,10 @@ impl Collider {
                 let _ = clearance.set(None);
             }
             ColliderKind::Grid | ColliderKind::Hashed => {
-                // The map takes longer to build than the grid (11 ms for
-                // 1.3k atoms, ~0.3 s for 272k); the session rebuilds its
-                // collider when the selection changes, so it must not wait.
+                // The map takes longer to build than the grid (40 ms for
+                // 1.3k atoms, over a second for 272k); the session builds
+                // a collider in the frame that turns collision on, so it
+                // must not wait.
                 let (slot, copy) = (Arc::clone(&clearance), atoms.clone());
                 let spawned = std::thread::Builder::new()
                     .name("bump-clearance".into())
