@@ -650,6 +650,19 @@ impl Session {
         (translate, axis, angle)
     }
 
+    /// With collision on, builds the selected molecule's environment now
+    /// (if it is not built) and waits until its collider's clearance map is
+    /// there, so the frames that follow run as every frame will from then
+    /// on: for benchmarks. Frames never wait for the map (see
+    /// [`Collider::wait_for_clearance`]).
+    pub fn wait_for_collider(&mut self) {
+        if self.settings.collision
+            && let Some(env) = self.environment()
+        {
+            env.collider.wait_for_clearance();
+        }
+    }
+
     /// Builds (or reuses) the environment of the selected molecule.
     fn environment(&mut self) -> Option<&Environment> {
         let stale = self

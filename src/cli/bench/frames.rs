@@ -140,6 +140,10 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
         // Collision on.
         let mut s = base.clone();
         s.step(&commands(&[Command::ToggleCollision]), 0.0);
+        // Frames from here on, once the collider's clearance map (built on
+        // its own thread) is there: the rows time every frame after the
+        // first second or so, not the map's build.
+        s.wait_for_collider();
         rows.push(tally("idle, collision on", &mut s, n, |_| {
             FrameInput::default()
         }));
