@@ -11,18 +11,11 @@ use bump::model::{LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
 use bump::render::offscreen::{Image, Offscreen, render_image};
 use bump::render::view::{model_views, projection};
 use bump::render::{Cues, ViewParams};
-use bump::session::{Command, FrameInput, Motion6, Session, Settings};
+use bump::session::{Command, FrameInput, Session, Settings};
 use glam::DVec3;
 
 fn one_atom(element: &str, radius: f32, at: DVec3) -> Molecule {
     Molecule::new("atom", vec![common::atom(1, element, radius)], &[at])
-}
-
-fn cmds(c: &[Command]) -> FrameInput {
-    FrameInput {
-        commands: c.to_vec(),
-        ..FrameInput::default()
-    }
 }
 
 /// Pixel where world point `p` of molecule `body` (local coordinates) lands.
@@ -132,7 +125,7 @@ fn colliding_atoms_are_highlighted_where_they_are() {
     let mut s = Session::new(vec![rings, e], Settings::default()).expect("session");
     // Misaligned by 5 Å and pushed through with collision off, then checked.
     s.step(
-        &cmds(&[
+        &FrameInput::with_commands(&[
             Command::MoveBy {
                 translate: DVec3::new(0.0, 5.0, 25.0),
                 axis: DVec3::Z,
@@ -174,15 +167,9 @@ fn dhfr_with_trimethoprim_renders_and_the_drug_shows_when_pulled_out() {
     let covered = count(&img, |p| p != img.pixel(0, 0).expect("corner"));
     assert!(covered > (w * h) as usize / 10 && covered < (w * h) as usize * 9 / 10);
     // Pull the drug 25 Å towards the eye: it is drawn, green, in front.
-    s.step(&cmds(&[Command::ToggleMode]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
     s.step(
-        &FrameInput {
-            nudge: Motion6 {
-                translate: DVec3::new(0.0, 0.0, 25.0),
-                rotate: DVec3::ZERO,
-            },
-            ..FrameInput::default()
-        },
+        &FrameInput::nudged(DVec3::new(0.0, 0.0, 25.0), DVec3::ZERO),
         0.0,
     );
     let img = render_image(&gpu, &s, w, h, &ViewParams::default()).expect("render");
@@ -205,15 +192,12 @@ fn moving_a_molecule_uploads_matrices_only_and_highlights_only_changed_words() {
     off.render(&gpu, &s, &ViewParams::default())
         .expect("render");
     let before = off.spheres.upload_stats();
-    s.step(&cmds(&[Command::ToggleMode, Command::ToggleCollision]), 0.0);
+    s.step(
+        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        0.0,
+    );
     let out = s.step(
-        &FrameInput {
-            nudge: Motion6 {
-                translate: DVec3::new(0.0, 5.0, 25.0),
-                rotate: DVec3::ZERO,
-            },
-            ..FrameInput::default()
-        },
+        &FrameInput::nudged(DVec3::new(0.0, 5.0, 25.0), DVec3::ZERO),
         0.0,
     );
     assert!(!out.highlight_changes.is_empty());

@@ -3,19 +3,12 @@
 //! moving the view, and it resumes from where the view is.
 
 use bump::model::{RadiiSet, builtin};
-use bump::session::{Command, FrameInput, Motion6, Session, Settings};
+use bump::session::{Command, FrameInput, Session, Settings};
 use glam::{DQuat, DVec3};
 
 fn session() -> Session {
     let (rings, e) = builtin::scene(RadiiSet::Bondi);
     Session::new(vec![rings, e], Settings::default()).expect("session")
-}
-
-fn cmds(c: &[Command]) -> FrameInput {
-    FrameInput {
-        commands: c.to_vec(),
-        ..FrameInput::default()
-    }
 }
 
 fn turned(a: DQuat, b: DQuat) -> f64 {
@@ -27,7 +20,7 @@ fn rocking_turns_the_view_camera_only_and_replays_bit_for_bit() {
     let run = || {
         let mut s = session();
         let home = s.camera().rotation;
-        s.step(&cmds(&[Command::ToggleRocking]), 0.0);
+        s.step(&FrameInput::with_commands(&[Command::ToggleRocking]), 0.0);
         let mut views = Vec::new();
         for i in 0..300 {
             let out = s.step(&FrameInput::default(), 1.0 / 60.0 + (i % 3) as f64 * 1e-4);
@@ -53,7 +46,7 @@ fn rocking_turns_the_view_camera_only_and_replays_bit_for_bit() {
 #[test]
 fn moving_pauses_rocking_where_the_view_is_and_it_resumes_without_a_jump() {
     let mut s = session();
-    s.step(&cmds(&[Command::ToggleRocking]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ToggleRocking]), 0.0);
     for _ in 0..120 {
         s.step(&FrameInput::default(), 1.0 / 60.0);
     }
@@ -63,13 +56,7 @@ fn moving_pauses_rocking_where_the_view_is_and_it_resumes_without_a_jump() {
         "it should be mid-swing"
     );
     // A zero-length motion request is no motion; a real one pauses.
-    let nudge = FrameInput {
-        nudge: Motion6 {
-            translate: DVec3::new(0.1, 0.0, 0.0),
-            rotate: DVec3::ZERO,
-        },
-        ..FrameInput::default()
-    };
+    let nudge = FrameInput::nudged(DVec3::new(0.1, 0.0, 0.0), DVec3::ZERO);
     s.step(&nudge, 0.0);
     // Pausing baked the angle into the camera: the view did not turn.
     assert!(turned(s.view_camera().rotation, before) < 1e-12);
@@ -93,7 +80,7 @@ fn moving_pauses_rocking_where_the_view_is_and_it_resumes_without_a_jump() {
     assert!(moved, "rocking resumed");
     // Turning it off keeps the view where it is.
     let v = s.view_camera().rotation;
-    s.step(&cmds(&[Command::ToggleRocking]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ToggleRocking]), 0.0);
     assert!(turned(s.view_camera().rotation, v) < 1e-12);
     assert!(!s.rock().is_on());
 }
@@ -101,7 +88,10 @@ fn moving_pauses_rocking_where_the_view_is_and_it_resumes_without_a_jump() {
 #[test]
 fn a_mouse_drag_on_the_camera_pauses_rocking_too() {
     let mut s = session();
-    s.step(&cmds(&[Command::ToggleRocking, Command::RockMore]), 0.0);
+    s.step(
+        &FrameInput::with_commands(&[Command::ToggleRocking, Command::RockMore]),
+        0.0,
+    );
     for _ in 0..120 {
         s.step(&FrameInput::default(), 1.0 / 60.0);
     }
@@ -134,7 +124,10 @@ fn mouse_drags_and_the_wheel_through_the_frame_input_pause_rocking() {
         },
     ] {
         let mut s = session();
-        s.step(&cmds(&[Command::ToggleRocking, Command::RockMore]), 0.0);
+        s.step(
+            &FrameInput::with_commands(&[Command::ToggleRocking, Command::RockMore]),
+            0.0,
+        );
         for _ in 0..120 {
             s.step(&FrameInput::default(), 1.0 / 60.0);
         }

@@ -11,21 +11,8 @@ fn builtin_session() -> Session {
     Session::new(vec![rings, e], Settings::default()).expect("session")
 }
 
-fn commands(c: &[Command]) -> FrameInput {
-    FrameInput {
-        commands: c.to_vec(),
-        ..FrameInput::default()
-    }
-}
-
 fn push(v: DVec3) -> FrameInput {
-    FrameInput {
-        nudge: Motion6 {
-            translate: v,
-            rotate: DVec3::ZERO,
-        },
-        ..FrameInput::default()
-    }
+    FrameInput::nudged(v, DVec3::ZERO)
 }
 
 #[test]
@@ -46,7 +33,7 @@ fn view_mode_moves_the_camera_not_the_molecules() {
     assert!(out.changed && !out.moved);
     assert_ne!(*s.camera(), cam);
     assert_eq!(s.bodies().iter().map(|b| b.pose).collect::<Vec<_>>(), poses);
-    s.step(&commands(&[Command::ResetView]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ResetView]), 0.0);
     assert_eq!(*s.camera(), cam);
 }
 
@@ -54,7 +41,7 @@ fn view_mode_moves_the_camera_not_the_molecules() {
 fn collision_on_stops_the_e_at_the_rings_and_off_lets_it_through() {
     let mut s = builtin_session();
     s.step(
-        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
         0.0,
     );
     assert_eq!(s.mode(), Mode::Object);
@@ -72,7 +59,7 @@ fn collision_on_stops_the_e_at_the_rings_and_off_lets_it_through() {
     let again = s.step(&push(DVec3::new(0.0, 0.0, 1.0)), 0.0);
     assert!(!again.new_contact);
     // Collision off: the push goes through, highlights clear.
-    let off = s.step(&commands(&[Command::ToggleCollision]), 0.0);
+    let off = s.step(&FrameInput::with_commands(&[Command::ToggleCollision]), 0.0);
     assert!(off.contacts.is_empty() && !s.is_highlighted(b, a));
     let through = s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
     assert!(through.moved && through.t == 1.0 && through.collision_us.is_none());
@@ -82,29 +69,35 @@ fn collision_on_stops_the_e_at_the_rings_and_off_lets_it_through() {
 fn each_response_is_one_command_away() {
     let mut s = builtin_session();
     s.step(
-        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
         0.0,
     );
     s.step(&push(DVec3::new(0.0, 5.0, 0.0)), 0.0);
     let start = s.bodies()[1].pose;
-    s.step(&commands(&[Command::SetResponse(Response::Stop)]), 0.0);
+    s.step(
+        &FrameInput::with_commands(&[Command::SetResponse(Response::Stop)]),
+        0.0,
+    );
     let out = s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
     assert_eq!(s.bodies()[1].pose, start, "stop rejects the whole step");
     assert!(!out.moved);
-    s.step(&commands(&[Command::SetResponse(Response::Pass)]), 0.0);
+    s.step(
+        &FrameInput::with_commands(&[Command::SetResponse(Response::Pass)]),
+        0.0,
+    );
     let out = s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
     assert!(
         out.moved && out.contacts.iter().any(|c| c.gap() <= 0.0),
         "pass reports overlaps"
     );
-    s.step(&commands(&[Command::CycleResponse]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::CycleResponse]), 0.0);
     assert_eq!(s.settings().response, Response::Stop);
 }
 
 #[test]
 fn undo_redo_and_reset() {
     let mut s = builtin_session();
-    s.step(&commands(&[Command::ToggleMode]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
     let loaded = s.bodies()[1].pose;
     // A held key over three frames is one gesture, one undo entry.
     let held = FrameInput {
@@ -122,7 +115,7 @@ fn undo_redo_and_reset() {
     assert!((moved.translation - loaded.translation - DVec3::new(3.0, 0.0, 0.0)).length() < 1e-9);
     assert_eq!(s.history().undo_len(), 1);
     s.step(
-        &commands(&[Command::MoveBy {
+        &FrameInput::with_commands(&[Command::MoveBy {
             translate: DVec3::new(0.0, 1.0, 0.0),
             axis: DVec3::Z,
             degrees: 90.0,
@@ -130,18 +123,18 @@ fn undo_redo_and_reset() {
         0.0,
     );
     assert_eq!(s.history().undo_len(), 2);
-    s.step(&commands(&[Command::Undo]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
     assert_eq!(s.bodies()[1].pose, moved);
-    s.step(&commands(&[Command::Undo]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
     assert_eq!(s.bodies()[1].pose, loaded);
-    s.step(&commands(&[Command::Redo]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::Redo]), 0.0);
     assert_eq!(s.bodies()[1].pose, moved);
-    s.step(&commands(&[Command::ResetMolecule]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ResetMolecule]), 0.0);
     assert_eq!(s.bodies()[1].pose, loaded);
-    s.step(&commands(&[Command::Undo]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
     assert_eq!(s.bodies()[1].pose, moved, "reset is undoable");
     let none = s.step(
-        &commands(&[Command::Redo, Command::Redo, Command::Redo]),
+        &FrameInput::with_commands(&[Command::Redo, Command::Redo, Command::Redo]),
         0.0,
     );
     assert!(!none.messages.is_empty());
@@ -152,16 +145,10 @@ fn screen_and_object_space() {
     let mut s = builtin_session();
     // Turn the view a quarter turn about screen y, then push along screen x.
     s.step(
-        &FrameInput {
-            nudge: Motion6 {
-                translate: DVec3::ZERO,
-                rotate: DVec3::Y * std::f64::consts::FRAC_PI_2,
-            },
-            ..FrameInput::default()
-        },
+        &FrameInput::nudged(DVec3::ZERO, DVec3::Y * std::f64::consts::FRAC_PI_2),
         0.0,
     );
-    s.step(&commands(&[Command::ToggleMode]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
     let p0 = s.bodies()[1].pose.translation;
     s.step(&push(DVec3::X), 0.0);
     let d = s.bodies()[1].pose.translation - p0;
@@ -169,7 +156,7 @@ fn screen_and_object_space() {
     assert!((d - s.camera().to_world(DVec3::X)).length() < 1e-9);
     assert!((d.length() - 1.0).abs() < 1e-9);
     // Object space: the molecule's own x, here world x (it has not turned).
-    s.step(&commands(&[Command::ToggleSpace]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ToggleSpace]), 0.0);
     assert_eq!(s.settings().space, Space::Object);
     let p1 = s.bodies()[1].pose.translation;
     s.step(&push(DVec3::X), 0.0);
@@ -180,7 +167,7 @@ fn screen_and_object_space() {
 fn selecting_the_receptor_moves_it_against_the_drug() {
     let mut s = builtin_session();
     s.step(
-        &commands(&[
+        &FrameInput::with_commands(&[
             Command::ToggleMode,
             Command::ToggleCollision,
             Command::NextMolecule,
@@ -189,9 +176,9 @@ fn selecting_the_receptor_moves_it_against_the_drug() {
     );
     assert_eq!(s.selected(), 0);
     // Drag the rings towards the (misaligned) E: they stop touching it.
-    s.step(&commands(&[Command::Select(1)]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::Select(1)]), 0.0);
     s.step(&push(DVec3::new(0.0, 5.0, 0.0)), 0.0);
-    s.step(&commands(&[Command::Select(0)]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::Select(0)]), 0.0);
     let out = s.step(&push(DVec3::new(0.0, 0.0, -25.0)), 0.0);
     assert!(out.t < 1.0 && !out.contacts.is_empty());
     assert!(
@@ -199,7 +186,7 @@ fn selecting_the_receptor_moves_it_against_the_drug() {
             .iter()
             .all(|c| c.moving.0 == 0 && c.other.0 == 1)
     );
-    let bad = s.step(&commands(&[Command::Select(7)]), 0.0);
+    let bad = s.step(&FrameInput::with_commands(&[Command::Select(7)]), 0.0);
     assert!(!bad.messages.is_empty());
 }
 
@@ -207,7 +194,7 @@ fn selecting_the_receptor_moves_it_against_the_drug() {
 fn nonsense_input_is_ignored_not_fatal() {
     let mut s = builtin_session();
     s.step(
-        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
         0.0,
     );
     let p = s.bodies()[1].pose;
@@ -225,7 +212,7 @@ fn nonsense_input_is_ignored_not_fatal() {
     );
     assert!(!out2.moved);
     assert_eq!(s.bodies()[1].pose, p);
-    let q = s.step(&commands(&[Command::Quit]), 0.0);
+    let q = s.step(&FrameInput::with_commands(&[Command::Quit]), 0.0);
     assert!(q.quit);
 }
 
@@ -235,7 +222,7 @@ fn three_molecules_collide_with_each_other() {
     let (_, e2) = builtin::scene(RadiiSet::Bondi);
     let mut s = Session::new(vec![rings, e, e2], Settings::default()).expect("session");
     s.step(
-        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
         0.0,
     );
     // The two Es start on top of each other: moving one away is allowed,
@@ -251,7 +238,7 @@ fn three_molecules_collide_with_each_other() {
 #[test]
 fn pose_in_the_receptor_frame_for_saving() {
     let mut s = builtin_session();
-    s.step(&commands(&[Command::ToggleMode]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
     s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
     let rel = s.pose_in_frame_of(1, 0).expect("pose");
     let drug = &s.bodies()[1].molecule;
@@ -286,7 +273,7 @@ fn a_grab_moves_the_molecule_in_view_mode_and_files_can_be_added() {
     s.add_molecule(e);
     assert_eq!(s.bodies().len(), 3);
     assert_eq!(s.selected(), 2);
-    s.step(&commands(&[Command::ToggleCollision]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ToggleCollision]), 0.0);
     assert!(
         !s.contacts().is_empty(),
         "the new E overlaps the grabbed one's old place"
@@ -314,7 +301,7 @@ fn an_empty_session_waits_for_files_without_panicking() {
         Command::CycleResponse,
         Command::ToggleSpace,
     ] {
-        s.step(&commands(&[c]), 0.0);
+        s.step(&FrameInput::with_commands(&[c]), 0.0);
     }
     let out = s.step(&push(DVec3::X), 0.016);
     assert!(out.changed && !out.moved);
@@ -332,7 +319,7 @@ fn an_empty_session_waits_for_files_without_panicking() {
 fn highlight_changes_are_exactly_the_atoms_that_changed() {
     let mut s = builtin_session();
     s.step(
-        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
         0.0,
     );
     s.step(&push(DVec3::new(0.0, 5.0, 0.0)), 0.0);
@@ -387,9 +374,12 @@ fn a_turned_and_moved_receptor_stops_the_drug_at_contact_where_it_stands() {
     // on): no pose may overlap, and the contacts must be every pair within
     // tolerance of contact by the rule applied to world coordinates.
     let mut s = builtin_session();
-    s.step(&commands(&[Command::ToggleMode, Command::Select(0)]), 0.0);
     s.step(
-        &commands(&[Command::MoveBy {
+        &FrameInput::with_commands(&[Command::ToggleMode, Command::Select(0)]),
+        0.0,
+    );
+    s.step(
+        &FrameInput::with_commands(&[Command::MoveBy {
             translate: DVec3::new(3.0, -2.0, 1.0),
             axis: DVec3::new(1.0, 2.0, 0.5),
             degrees: 23.0,
@@ -397,7 +387,7 @@ fn a_turned_and_moved_receptor_stops_the_drug_at_contact_where_it_stands() {
         0.0,
     );
     s.step(
-        &commands(&[Command::Select(1), Command::ToggleCollision]),
+        &FrameInput::with_commands(&[Command::Select(1), Command::ToggleCollision]),
         0.0,
     );
     let rule = s.settings().rule;

@@ -16,7 +16,7 @@ use bump::collide::oracle::{certify_free_path, min_gap, translation_toi};
 use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, TouchOptions, move_to_touch};
 use bump::model::{Molecule, RadiiSet, builtin};
 use bump::motion::{Pose, Screw};
-use bump::session::{Command, FrameInput, Motion6, Session, Settings};
+use bump::session::{Command, FrameInput, Session, Settings};
 use common::*;
 use glam::{DMat3, DQuat, DVec3};
 
@@ -162,13 +162,6 @@ fn shifted(m: &Molecule, offset: DVec3) -> Molecule {
     Molecule::new(m.name.clone(), m.atoms.clone(), &pos)
 }
 
-fn commands(c: &[Command]) -> FrameInput {
-    FrameInput {
-        commands: c.to_vec(),
-        ..FrameInput::default()
-    }
-}
-
 /// The built-in scene (rings, E) moved by `offset`, object mode, collision on.
 fn builtin_session(offset: DVec3) -> Session {
     let (rings, e) = builtin::scene(RadiiSet::Bondi);
@@ -178,7 +171,7 @@ fn builtin_session(offset: DVec3) -> Session {
     )
     .expect("session");
     s.step(
-        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
         0.0,
     );
     s
@@ -192,7 +185,7 @@ fn e_gap(s: &Session) -> f64 {
 }
 
 fn move_by(translate: DVec3, axis: DVec3, degrees: f64) -> FrameInput {
-    commands(&[Command::MoveBy {
+    FrameInput::with_commands(&[Command::MoveBy {
         translate,
         axis,
         degrees,
@@ -223,13 +216,13 @@ fn far_query(
         Settings::default(),
     )
     .expect("session");
-    s.step(&commands(&[Command::ToggleMode]), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
     s.step(&move_by(start.0, start.1, start.2), 0.0);
     if e_gap(&s) < 0.01 {
         return None;
     }
     s.step(
-        &commands(&[Command::ToggleCollision, Command::SetResponse(response)]),
+        &FrameInput::with_commands(&[Command::ToggleCollision, Command::SetResponse(response)]),
         0.0,
     );
     let o = s.step(&move_by(step.0, step.1, step.2), 0.0);
@@ -374,13 +367,7 @@ fn a_million_small_turns_keep_the_drug_rigid() {
     let q0 = s.bodies()[1].pose;
     let axis = DVec3::new(1.0, 2.0, 3.0).normalize();
     let step = 1e-3; // rad per frame
-    let frame = FrameInput {
-        nudge: Motion6 {
-            translate: DVec3::ZERO,
-            rotate: axis * step,
-        },
-        ..FrameInput::default()
-    };
+    let frame = FrameInput::nudged(DVec3::ZERO, axis * step);
     let n = 1_000_000;
     let mut queries = 0;
     for _ in 0..n {
@@ -426,13 +413,7 @@ fn a_million_small_turns_keep_the_drug_rigid() {
 fn push_into_contact(rotate: DVec3, frames: usize) {
     let mut s = builtin_session(DVec3::ZERO);
     s.step(&move_by(DVec3::new(0.0, 0.0, 25.0), DVec3::Z, 0.0), 0.0);
-    let push = FrameInput {
-        nudge: Motion6 {
-            translate: DVec3::new(0.05, 0.02, 0.0),
-            rotate,
-        },
-        ..FrameInput::default()
-    };
+    let push = FrameInput::nudged(DVec3::new(0.05, 0.02, 0.0), rotate);
     let mut first: Option<Pose> = None;
     let (mut max_step, mut lo, mut hi) = (0.0f64, f64::INFINITY, 0.0f64);
     let mut prev = s.bodies()[1].pose;

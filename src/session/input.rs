@@ -141,6 +141,24 @@ pub struct FrameInput {
 }
 
 impl FrameInput {
+    /// A frame that only gives `commands`, in order.
+    pub fn with_commands(commands: &[Command]) -> Self {
+        Self {
+            commands: commands.to_vec(),
+            ..Self::default()
+        }
+    }
+
+    /// A frame that only nudges the view or the selected molecule (as the
+    /// mode says) once by `translate` (Å) and `rotate` (an axis-angle
+    /// vector, radians).
+    pub fn nudged(translate: DVec3, rotate: DVec3) -> Self {
+        Self {
+            nudge: Motion6 { translate, rotate },
+            ..Self::default()
+        }
+    }
+
     /// True when the frame asks for nothing at all.
     pub fn is_empty(&self) -> bool {
         !self.has_motion() && self.commands.is_empty()

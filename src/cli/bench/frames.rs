@@ -10,7 +10,7 @@
 use std::time::Instant;
 
 use bump::model::{self, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
-use bump::session::{Command, FrameInput, FrameOutcome, Motion6, Session, Settings};
+use bump::session::{Command, FrameInput, FrameOutcome, Session, Settings};
 use glam::DVec3;
 
 use super::timing::{Progress, median};
@@ -63,24 +63,10 @@ fn tally(
     t
 }
 
-fn nudge(translate: DVec3, rotate: DVec3) -> FrameInput {
-    FrameInput {
-        nudge: Motion6 { translate, rotate },
-        ..FrameInput::default()
-    }
-}
-
-fn commands(c: &[Command]) -> FrameInput {
-    FrameInput {
-        commands: c.to_vec(),
-        ..FrameInput::default()
-    }
-}
-
 /// A small back-and-forth wiggle of the drug (it stays where it is on average).
 fn wiggle(k: usize) -> FrameInput {
     let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
-    nudge(
+    FrameInput::nudged(
         DVec3::new(0.01, 0.005, 0.0) * sign,
         DVec3::new(0.0, 0.0, 1e-3) * sign,
     )
@@ -135,11 +121,11 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
         rows.push(tally("idle, collision off", &mut s, n, |_| {
             FrameInput::default()
         }));
-        s.step(&commands(&[Command::ToggleMode]), 0.0);
+        s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
         rows.push(tally("drug moving, collision off", &mut s, n, wiggle));
         // Collision on.
         let mut s = base.clone();
-        s.step(&commands(&[Command::ToggleCollision]), 0.0);
+        s.step(&FrameInput::with_commands(&[Command::ToggleCollision]), 0.0);
         // Frames from here on, once the collider's clearance map (built on
         // its own thread) is there: the rows time every frame after the
         // first second or so, not the map's build.
@@ -153,14 +139,14 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
             n,
             wiggle,
         ));
-        s.step(&commands(&[Command::ToggleMode]), 0.0);
+        s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
         rows.push(tally("drug moving, collision on", &mut s, n, wiggle));
         let sel = s.selected();
         rows.push(tally(
             "re-selecting the selected molecule, collision on",
             &mut s,
             n.min(2000),
-            |_| commands(&[Command::Select(sel)]),
+            |_| FrameInput::with_commands(&[Command::Select(sel)]),
         ));
         // Push the drug into its receptor until it is blocked, then keep pushing.
         let dir = {
@@ -168,13 +154,13 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
             (b[0].pose.translation - b[1].pose.translation).normalize_or(DVec3::X)
         };
         for _ in 0..2000 {
-            s.step(&nudge(dir * 0.05, DVec3::ZERO), 0.016);
+            s.step(&FrameInput::nudged(dir * 0.05, DVec3::ZERO), 0.016);
         }
         rows.push(tally(
             "pushing into a contact (blocked), collision on",
             &mut s,
             n,
-            |_| nudge(dir * 0.05, DVec3::ZERO),
+            |_| FrameInput::nudged(dir * 0.05, DVec3::ZERO),
         ));
         for r in &rows {
             md.push_str(&format!(
@@ -248,7 +234,7 @@ fn uploads(headline: &mut Vec<String>) -> String {
     }
     let created = off.spheres.upload_stats();
     s.step(
-        &commands(&[Command::ToggleMode, Command::ToggleCollision]),
+        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
         0.0,
     );
     let frames = 100;
@@ -256,7 +242,10 @@ fn uploads(headline: &mut Vec<String>) -> String {
     for k in 0..frames {
         // Towards the rings and back: contacts begin and end on the way.
         let z = if k < frames / 2 { 0.6 } else { -0.6 };
-        let out = s.step(&nudge(DVec3::new(0.0, 0.1, z), DVec3::ZERO), 0.016);
+        let out = s.step(
+            &FrameInput::nudged(DVec3::new(0.0, 0.1, z), DVec3::ZERO),
+            0.016,
+        );
         off.spheres
             .apply_highlights(&gpu.queue, &out.highlight_changes);
         if out.changed && off.render(&gpu, &s, &params).is_ok() {
