@@ -52,8 +52,17 @@ const FINEST: f32 = 0.5;
 pub const MAX_VERTICES: usize = 1 << 26;
 
 /// Room, in Å, for the f32 rounding of a query point and of the distances
-/// to the corners (receptor-frame coordinates, a few hundred Å at most).
+/// to the corners (receptor-frame coordinates, within
+/// [`MAX_LATTICE_COORDINATE`] wherever the map answers).
 const ROUNDING: f32 = 1e-3;
+
+/// Farthest a lattice vertex may lie from the receptor frame's origin (the
+/// receptor's centre), per axis, in Å. [`ROUNDING`] covers the f32
+/// rounding of coordinates up to this size (a unit in the last place is
+/// 1.2·10⁻⁴ Å here, and the tests round a few times); a receptor whose
+/// lattice would reach farther (no real one: the 272k-atom 1f2n capsid
+/// reaches about 200 Å) gets no map, and its queries are only slower.
+const MAX_LATTICE_COORDINATE: f32 = 1024.0;
 
 /// How much more than its nearest corner's value (less its distance) the
 /// best of a cell's eight corners can prove: one step of the stored values,
@@ -242,7 +251,8 @@ impl Clearance {
         let margin = CAP + max_radius;
         let dims = loop {
             let span = (hi - lo + Vec3::splat(2.0 * (margin + spacing))) / spacing;
-            // Saturating, so absurd coordinates only make the lattice coarser.
+            // Saturating, so absurd coordinates only make the lattice
+            // coarser (until the size check below refuses it).
             let dims = [span.x, span.y, span.z].map(|s| (s.ceil() as usize).saturating_add(1));
             let total = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
             if total.is_some_and(|n| n <= MAX_VERTICES) {
@@ -251,6 +261,10 @@ impl Clearance {
             spacing *= 1.25;
         };
         let origin = lo - Vec3::splat(margin + spacing);
+        let far = origin + Vec3::new(dims[0] as f32, dims[1] as f32, dims[2] as f32) * spacing;
+        if origin.abs().max(far.abs()).max_element() > MAX_LATTICE_COORDINATE {
+            return None;
+        }
         let inv_spacing = 1.0 / spacing;
         let [nx, ny, nz] = dims;
         // The stored values, each the exact minimum over the atoms within
@@ -604,6 +618,19 @@ mod tests {
         assert!(map.values == clean.values, "a NaN atom changed the map");
     }
 
+    /// A lattice that would reach beyond f32's rounding room gets no map
+    /// (its queries run without one); one just inside it does.
+    #[test]
+    fn lattices_beyond_the_rounding_room_are_not_built() {
+        let atom = |x: f32| Vec4::new(x, 0.0, 0.0, 1.7);
+        let reach = CAP + 1.7 + FINEST;
+        let inside = MAX_LATTICE_COORDINATE - reach - 2.0;
+        assert!(Clearance::build(&[atom(-inside), atom(inside)]).is_some());
+        let outside = MAX_LATTICE_COORDINATE - reach + 1.0;
+        assert!(Clearance::build(&[atom(0.0), atom(outside)]).is_none());
+        assert!(Clearance::build(&[atom(-1e5), atom(1e5)]).is_none());
+    }
+
     /// Random atoms, random points and thresholds: whenever the map says
     /// clear, the exact clearance is larger; and it does say clear for most
     /// points well away from the atoms.
@@ -744,13 +771,12 @@ mod tests {
         assert!(map.bytes() <= MAX_VERTICES);
         assert!(map.clear(Vec3::new(0.0, 100.0, 100.0), 1.0));
         assert!(!map.clear(Vec3::new(-400.0, 0.0, 1.0), 0.2));
-        // Absurdly far apart: a very coarse lattice, still a lower bound.
+        // Absurdly far apart: no map (see MAX_LATTICE_COORDINATE), and no
+        // panic or endless coarsening on the way.
         let atoms = [
             Vec4::new(-1e30, 0.0, 0.0, 1.5),
             Vec4::new(1e30, 1e6, -1e6, 1.5),
         ];
-        let map = Clearance::build(&atoms).expect("atoms");
-        assert!(map.bytes() <= MAX_VERTICES);
-        assert!(!map.clear(Vec3::new(1e30, 1e6, -1e6), 0.2));
+        assert!(Clearance::build(&atoms).is_none());
     }
 }
