@@ -254,11 +254,32 @@ fn parse_text(
                 .map(|s| (*s).to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown failure".to_string());
-            return Err(refused(LoadError::Parse {
-                path: label.to_string(),
-                line: None,
-                reason: format!("the PDB/mmCIF parser gave up: {what}"),
-            }));
+            // pdbtbx panics on a name holding a control character; say
+            // where the first atom record with one is.
+            let line = text
+                .lines()
+                .enumerate()
+                .filter(|(_, l)| {
+                    let l = l.trim_start();
+                    l.starts_with("ATOM") || l.starts_with("HETATM")
+                })
+                .find_map(|(k, l)| l.chars().find(|c| c.is_ascii_control()).map(|c| (k + 1, c)));
+            return Err(match line {
+                Some((line, c)) => LoadError::Parse {
+                    path: label.to_string(),
+                    line: Some(line),
+                    reason: format!(
+                        "control character U+{:04X} in an atom record (names must be printable); \
+                         the PDB/mmCIF parser gave up: {what}",
+                        u32::from(c)
+                    ),
+                },
+                None => refused(LoadError::Parse {
+                    path: label.to_string(),
+                    line: None,
+                    reason: format!("the PDB/mmCIF parser gave up: {what}"),
+                }),
+            });
         }
     };
 
@@ -1168,6 +1189,23 @@ END
             &LoadOptions::default(),
         );
         assert!(matches!(r, Err(LoadError::Parse { .. })), "{r:?}");
+    }
+
+    #[test]
+    fn a_control_character_in_a_name_is_refused_with_its_line() {
+        // pdbtbx panics on it ("Invalid Conformer ID"); the message must
+        // still say where.
+        let mut text = String::from("HEADER    TEST\n");
+        text.push_str(&atom_line(1, "N", "ALA", 'A', 1, 0.0));
+        text.push_str(&atom_line(2, "CA", "A\u{1}A", 'A', 1, 1.5));
+        match parse_pdb_text(&text) {
+            Err(LoadError::Parse {
+                line: Some(3),
+                reason,
+                ..
+            }) => assert!(reason.contains("U+0001"), "{reason}"),
+            other => panic!("{other:?}"),
+        }
     }
 
     /// A PDB atom line (chain `ch`, one character).
