@@ -452,6 +452,55 @@ fn a_colliding_start_allows_only_motions_that_do_not_deepen() {
     }
 }
 
+/// Pushes from a colliding start, each from where the last stopped, long
+/// enough that a colliding pair would pass by and end no deeper (so its
+/// target allows a rounding-size dip on the way): no stop short of the end
+/// may leave any pair that collided at that step's start closer (f64) than
+/// it was, so repeated pushes cannot sink the drug.
+#[test]
+fn pushes_from_a_colliding_start_never_sink_the_drug() {
+    let rule = ContactRule::default();
+    let mut rng = Rng(41);
+    let mut sunk = 0;
+    for round in 0..40 {
+        let receptor = random_molecule(&mut rng, 200, 20.0, DVec3::ZERO, true);
+        let drug = random_molecule(&mut rng, 8, 5.0, DVec3::ZERO, true);
+        let c = Collider::build(&receptor, &rule, ColliderKind::Grid);
+        let d = DrugAtoms::new(&drug, &rule, c.max_radius());
+        let at = |p: &Pose, i: usize| p.rotation * drug.local[i].as_dvec3() + p.translation;
+        let gap2 = |p: &Pose, r: u32, i: u32| {
+            (at(p, i as usize) - receptor.local[r as usize].as_dvec3()).length_squared()
+        };
+        let dir = rng.unit();
+        let mut pose = Pose::from_translation(rng.unit() * 2.0);
+        for _ in 0..30 {
+            let end = pose.moved(dir * 6.0, DVec3::Z, 0.0);
+            let r = move_to_touch(&c, &d, &pose, &end, &TouchOptions::default());
+            if r.t < 1.0 {
+                for p in &r.start_colliding {
+                    let (before, after) = (
+                        gap2(&pose, p.receptor, p.drug),
+                        gap2(&r.pose, p.receptor, p.drug),
+                    );
+                    assert!(
+                        after >= before,
+                        "round {round}: pair {}/{} sank from {} to {} Å at t = {}",
+                        p.receptor,
+                        p.drug,
+                        before.sqrt(),
+                        after.sqrt(),
+                        r.t
+                    );
+                }
+                sunk += usize::from(r.start_collides());
+            }
+            pose = r.pose;
+        }
+    }
+    // Many stops from a colliding start were checked.
+    assert!(sunk > 100, "{sunk}");
+}
+
 #[test]
 fn overlapping_copies_can_be_pulled_apart_but_never_pushed_in() {
     use bump::model::{RadiiSet, builtin};

@@ -41,8 +41,10 @@
 //! A start pose that already collides is reported; its colliding pairs may not
 //! get any closer (their target distance is their start distance; a dip of
 //! f32 rounding size is tolerated on a step that ends no deeper, so atoms
-//! coincident to 10⁻⁶ Å can be pulled apart), every other pair obeys the rule
-//! as usual.
+//! coincident to 10⁻⁶ Å can be pulled apart), and a stop short of the end
+//! leaves them no closer (in f64) than at the start, or the drug stays there:
+//! a push repeated from each stop cannot sink it by that dip every time.
+//! Every other pair obeys the rule as usual.
 //!
 //! # The thesis method ([`Method::Thesis`])
 //! Turk's `pg_move_to_touch`: the colliding pairs at the end pose, then
@@ -239,6 +241,23 @@ fn violates(colliding: &[Pair], start_colliding: &[Pair]) -> bool {
             }
             Err(_) => true,
         }
+    })
+}
+
+/// True when a pair of `start_colliding` is closer at `pose` than at
+/// `start`, in f64.
+fn deepens(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    start: &Pose,
+    pose: &Pose,
+    start_colliding: &[Pair],
+) -> bool {
+    let at = |p: &Pose, i: usize| p.rotation * drug.local[i].as_dvec3() + p.translation;
+    start_colliding.iter().any(|p| {
+        let q = collider.atom_position(p.receptor).as_dvec3();
+        let i = p.drug as usize;
+        (at(pose, i) - q).length_squared() < (at(start, i) - q).length_squared()
     })
 }
 
@@ -858,11 +877,22 @@ fn swept_with<const TRANSLATION: bool>(
             contacts = None;
             check(collider, drug, &pose)
         };
-        if t <= 0.0 || !violates(&colliding, &start_colliding) {
+        // A stop short of the end must leave every pair that collided at
+        // the start no closer (in f64) than there: the dip its target
+        // tolerates is for a whole motion that ends no deeper, not for a
+        // pose on the way (a push repeated from each stop would sink the
+        // drug by the dip every time). Such a pair approaches from its start
+        // on, so the stop is the start itself.
+        let sinks = t < 1.0 && deepens(collider, drug, &start, &pose, &start_colliding);
+        if t <= 0.0 || !(sinks || violates(&colliding, &start_colliding)) {
             break;
         }
         tries += 1;
-        t = if tries > 40 { 0.0 } else { (t - back).max(0.0) };
+        t = if tries > 40 || sinks {
+            0.0
+        } else {
+            (t - back).max(0.0)
+        };
         back *= 2.0;
         pose = screw.pose_at(t);
     }
