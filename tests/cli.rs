@@ -175,6 +175,30 @@ fn check_reports_serials_and_the_rule() {
         e.contains("21 of 21 drug atoms lie within 0.5 Å") && e.contains("--ligand TOP"),
         "{e}"
     );
+    // There every drug atom collides with its copy: each clash's
+    // drug_serial is the atom's 1-based place in the SDF record, whose
+    // element it must carry.
+    let v = json(&["check", complex.to_str().expect("path"), sdf, "--json"]);
+    let text = std::fs::read_to_string(dir.join("trimethoprim_top_6xg5pose.sdf")).expect("sdf");
+    let lines: Vec<&str> = text.lines().collect();
+    let clashes = v["clashes"].as_array().expect("clashes");
+    let mut serials: Vec<u64> = clashes
+        .iter()
+        .map(|c| c["drug_serial"].as_u64().expect("drug_serial"))
+        .collect();
+    for (c, &k) in clashes.iter().zip(&serials) {
+        // Atom k is on line 4 + k (three header lines, then the counts line).
+        let element = lines[3 + k as usize]
+            .split_whitespace()
+            .nth(3)
+            .expect("element");
+        assert!((1..=39).contains(&k) && element != "H", "{k}");
+        assert_eq!(c["drug_element"].as_str(), Some(element), "serial {k}");
+    }
+    serials.sort_unstable();
+    serials.dedup();
+    // The 21 heavy atoms come first in this record.
+    assert_eq!(serials, (1..=21).collect::<Vec<u64>>());
 }
 
 #[test]
@@ -198,6 +222,48 @@ fn touch_from_outside_the_pocket() {
         "thesis", "--json",
     ]);
     assert_eq!(thesis["method"], "thesis");
+    // Slide: t is its first leg's; the text says how far all legs went.
+    let out = bump(&[
+        "touch",
+        f,
+        "--ligand",
+        "BEN",
+        "--start",
+        "0,12,0",
+        "--move",
+        "0,-12,0",
+        "--response",
+        "slide",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("of its first leg;") && text.contains("legs moved the centre"),
+        "{text}"
+    );
+    // A colliding start: pass says it lets the drug move, the others that
+    // they refuse to deepen the overlap.
+    for (response, says) in [
+        ("pass", "pass lets the drug move anyway"),
+        ("touch", "only motions that do not deepen them are allowed"),
+    ] {
+        let out = bump(&[
+            "touch",
+            f,
+            "--ligand",
+            "BEN",
+            "--start",
+            "0,1.5,0",
+            "--move",
+            "0,0.3,0",
+            "--response",
+            response,
+        ]);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            text.contains("already collides (1 pair)") && text.contains(says),
+            "{text}"
+        );
+    }
 }
 
 #[test]

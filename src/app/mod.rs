@@ -485,8 +485,9 @@ impl App {
                 for w in warnings {
                     self.hud.say(w);
                 }
+                let atoms = if m.len() == 1 { "atom" } else { "atoms" };
                 self.hud
-                    .say(format!("opened {} ({} atoms)", m.name, m.len()));
+                    .say(format!("opened {} ({} {atoms})", m.name, m.len()));
                 self.session.add_molecule(m);
                 let title = self.title();
                 if let Some(g) = &mut self.gfx {
@@ -779,8 +780,10 @@ impl App {
             if let Some(msg) = self.joysticks.as_mut().and_then(|j| j.contact()) {
                 self.hud.say(msg);
             }
-            self.hud
-                .say(format!("contact: {} pairs", out.contacts.len()));
+            self.hud.say(match out.contacts.len() {
+                1 => "contact: 1 pair".to_string(),
+                n => format!("contact: {n} pairs"),
+            });
         }
         g.egui_state
             .handle_platform_output(&g.window, std::mem::take(&mut full.platform_output));

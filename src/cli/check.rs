@@ -6,7 +6,8 @@ use glam::DVec3;
 use serde::Serialize;
 
 use super::report::{
-    MoleculeReport, PairReport, RuleReport, molecule_report, pair_reports, print_pairs, rule_report,
+    MoleculeReport, PairReport, RuleReport, counted, molecule_report, pair_reports, print_pairs,
+    rule_report,
 };
 use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed, within_range};
 
@@ -73,11 +74,11 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     outln!(
-        "receptor {} ({} atoms), drug {} ({} atoms)",
+        "receptor {} ({}), drug {} ({})",
         report.receptor.name,
-        report.receptor.atoms,
+        counted(report.receptor.atoms, "atom"),
         report.drug.name,
-        report.drug.atoms
+        counted(report.drug.atoms, "atom")
     );
     outln!(
         "rule: overlap >= {} Å (+{} Å for N/O pairs), {} radii, hydrogens {}; collider {}",
@@ -88,9 +89,8 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         report.collider
     );
     outln!(
-        "{} colliding pair{} ({:.1} µs; collider built in {:.0} µs)",
-        report.clash_count,
-        if report.clash_count == 1 { "" } else { "s" },
+        "{} ({:.1} µs; collider built in {:.0} µs)",
+        counted(report.clash_count, "colliding pair"),
         report.elapsed_us,
         report.build_us
     );

@@ -75,6 +75,15 @@ pub fn pair_reports(
         .collect()
 }
 
+/// `n` and the noun, plural unless `n` is 1: "1 pair", "2 pairs".
+pub fn counted(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// Prints pairs as an aligned table.
 pub fn print_pairs(reports: &[PairReport]) {
     if reports.is_empty() {

@@ -9,7 +9,7 @@ use glam::DVec3;
 use serde::Serialize;
 
 use super::report::{
-    MoleculeReport, PairReport, RuleReport, molecule_report, pair_report, pair_reports,
+    MoleculeReport, PairReport, RuleReport, counted, molecule_report, pair_report, pair_reports,
     print_pairs, rule_report,
 };
 use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed, within_range};
@@ -209,25 +209,41 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     outln!(
-        "receptor {} ({} atoms), drug {} ({} atoms); collider {}, response {}, method {}",
+        "receptor {} ({}), drug {} ({}); collider {}, response {}, method {}",
         report.receptor.name,
-        report.receptor.atoms,
+        counted(report.receptor.atoms, "atom"),
         report.drug.name,
-        report.drug.atoms,
+        counted(report.drug.atoms, "atom"),
         report.collider,
         report.response,
         report.method
     );
     if report.start_collides {
+        let allowed = if args.response == Response::Pass {
+            "pass lets the drug move anyway"
+        } else {
+            "only motions that do not deepen them are allowed"
+        };
         outln!(
-            "WARNING: the start pose already collides ({} pairs); only motions that do not deepen them are allowed:",
-            report.start_clashes.len()
+            "WARNING: the start pose already collides ({}); {allowed}:",
+            counted(report.start_clashes.len(), "pair")
         );
         print_pairs(&report.start_clashes);
     }
     let f = &report.final_pose;
+    let of = if args.response == Response::Slide {
+        let d = |v: [f64; 3]| DVec3::from_array(v).length();
+        format!(
+            "of its first leg; {} moved the centre {:.4} of the {:.4} Å proposed",
+            counted(report.legs, "leg"),
+            d(f.displacement),
+            d(report.proposed_move)
+        )
+    } else {
+        "of the motion".to_string()
+    };
     outln!(
-        "t = {:.6} of the motion ({:.1} µs)\nfinal centre ({:.4}, {:.4}, {:.4}), moved ({:.4}, {:.4}, {:.4}); rotation {:.3}° about ({:.3}, {:.3}, {:.3})",
+        "t = {:.6} {of} ({:.1} µs)\nfinal centre ({:.4}, {:.4}, {:.4}), moved ({:.4}, {:.4}, {:.4}); rotation {:.3}° about ({:.3}, {:.3}, {:.3})",
         report.t,
         report.elapsed_us,
         f.pose.centre[0],
@@ -245,30 +261,21 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         Some(g) => outln!("smallest gap {g:.4} Å"),
         None => outln!("no receptor atom within 4 Å of contact"),
     }
-    let pairs = if report.contacts.len() == 1 {
-        "pair"
-    } else {
-        "pairs"
-    };
+    let pairs = counted(report.contacts.len(), "pair");
     if report.step_rejected {
         outln!(
-            "the step was rejected (stop); it would have run into {} {pairs} (gap <= {} Å):",
-            report.contacts.len(),
+            "the step was rejected (stop); it would have run into {pairs} (gap <= {} Å):",
             report.tolerance
         );
     } else {
-        outln!(
-            "{} {pairs} in contact (gap <= {} Å):",
-            report.contacts.len(),
-            report.tolerance
-        );
+        outln!("{pairs} in contact (gap <= {} Å):", report.tolerance);
     }
     print_pairs(&report.contacts);
     if !report.colliding_at_end.is_empty() {
-        outln!(
-            "{} pairs collide at the final pose",
-            report.colliding_at_end.len()
-        );
+        match report.colliding_at_end.len() {
+            1 => outln!("1 pair collides at the final pose"),
+            n => outln!("{n} pairs collide at the final pose"),
+        }
     }
     Ok(())
 }
