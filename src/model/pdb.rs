@@ -752,7 +752,7 @@ fn normalise_pdb(text: &str, label: &str) -> Result<String, LoadError> {
             reason,
         };
         if line.starts_with("ATOM  ") || line.starts_with("HETATM") {
-            check_coordinates(line).map_err(at)?;
+            check_atom_fields(line).map_err(at)?;
             let chain = chains.chain_of(line, index + 1).map_err(at)?;
             normalise_atom_line(line, chain, &mut out);
         } else {
@@ -764,14 +764,53 @@ fn normalise_pdb(text: &str, label: &str) -> Result<String, LoadError> {
     Ok(out)
 }
 
-/// Refuses a coordinate that reads as a number but is not finite or lies
-/// beyond [`MAX_FILE_COORDINATE`] (`pdbtbx` would panic on the first, and
-/// keep the second). Fields that do not read as numbers are left for
-/// `pdbtbx` to report.
-fn check_coordinates(line: &str) -> Result<(), String> {
+/// Refuses an atom record cut before its coordinates end, a numeric field
+/// (serial, residue number, coordinates, occupancy, temperature factor) that
+/// does not read as a number, naming the field, its columns and its text,
+/// and a coordinate that is not finite (on which `pdbtbx` would panic) or
+/// lies beyond [`MAX_FILE_COORDINATE`] (which it would keep). Blank serials,
+/// residue numbers, occupancies and temperature factors are left to
+/// `pdbtbx`.
+fn check_atom_fields(line: &str) -> Result<(), String> {
+    // pdbtbx would say only "not the right kind (f64)" for any of these,
+    // or give up without a line on a record cut short.
+    if line.len() < 54 {
+        return Err(format!(
+            "atom record too short ({} characters): its coordinates take columns 31-54",
+            line.len()
+        ));
+    }
+    let field = |range: std::ops::Range<usize>| line.get(range).unwrap_or("").trim();
+    for (what, range) in [
+        ("atom serial number", 6..11),
+        ("residue sequence number", 22..26),
+    ] {
+        let text = field(range.clone());
+        if !text.is_empty() && text.parse::<i64>().is_err() {
+            // Files past 99,999 atoms or 9,999 residues may number them so.
+            let hybrid36 = text.len() == range.len()
+                && text.starts_with(|c: char| c.is_ascii_alphabetic())
+                && text.chars().all(|c| c.is_ascii_alphanumeric());
+            return Err(format!(
+                "{what} (columns {}-{}) is not a whole number: \"{text}\"{}",
+                range.start + 1,
+                range.end,
+                if hybrid36 {
+                    " (a hybrid-36 number, which bump does not read: use the structure's mmCIF file)"
+                } else {
+                    ""
+                }
+            ));
+        }
+    }
     for (axis, range) in [("x", 30..38), ("y", 38..46), ("z", 46..54)] {
-        let Some(v) = line.get(range).and_then(|f| f.trim().parse::<f64>().ok()) else {
-            continue;
+        let text = field(range.clone());
+        let Ok(v) = text.parse::<f64>() else {
+            return Err(format!(
+                "{axis} coordinate (columns {}-{}) is not a number: \"{text}\"",
+                range.start + 1,
+                range.end
+            ));
         };
         if !v.is_finite() {
             return Err(format!("{axis} coordinate is not finite: {v}"));
@@ -779,6 +818,16 @@ fn check_coordinates(line: &str) -> Result<(), String> {
         if v.abs() > MAX_FILE_COORDINATE {
             return Err(format!(
                 "{axis} coordinate {v} is beyond ±{MAX_FILE_COORDINATE:e} Å"
+            ));
+        }
+    }
+    for (what, range) in [("occupancy", 54..60), ("temperature factor", 60..66)] {
+        let text = field(range.clone());
+        if !text.is_empty() && text.parse::<f64>().is_err() {
+            return Err(format!(
+                "{what} (columns {}-{}) is not a number: \"{text}\"",
+                range.start + 1,
+                range.end
             ));
         }
     }
@@ -1189,6 +1238,67 @@ END
             &LoadOptions::default(),
         );
         assert!(matches!(r, Err(LoadError::Parse { .. })), "{r:?}");
+    }
+
+    #[test]
+    fn a_bad_numeric_field_is_named_with_its_columns_and_text() {
+        let good = atom_line(1, "N", "ALA", 'A', 1, 0.0);
+        let cases: [(usize, usize, &str, &str); 7] = [
+            (
+                30,
+                38,
+                "    zz.z",
+                "x coordinate (columns 31-38) is not a number: \"zz.z\"",
+            ),
+            (
+                54,
+                60,
+                "  x.00",
+                "occupancy (columns 55-60) is not a number: \"x.00\"",
+            ),
+            (
+                60,
+                66,
+                " 1.0.0",
+                "temperature factor (columns 61-66) is not a number",
+            ),
+            (
+                22,
+                26,
+                "  1x",
+                "residue sequence number (columns 23-26) is not a whole number: \"1x\"",
+            ),
+            (
+                6,
+                11,
+                "    x",
+                "atom serial number (columns 7-11) is not a whole number: \"x\"",
+            ),
+            (6, 11, "A0000", "hybrid-36"),
+            (
+                40,
+                good.trim_end().len(),
+                "",
+                "atom record too short (40 characters)",
+            ),
+        ];
+        for (from, to, text, says) in cases {
+            let mut line = good.trim_end().to_string();
+            line.replace_range(from..to, text);
+            let file = format!("HEADER    TEST\n{good}{line}\n");
+            match parse_pdb_text(&file) {
+                Err(LoadError::Parse {
+                    line: Some(3),
+                    reason,
+                    ..
+                }) => assert!(reason.contains(says), "{reason}"),
+                other => panic!("{says}: {other:?}"),
+            }
+        }
+        // Blank optional fields stay pdbtbx's to judge: this one reads.
+        let mut line = good.trim_end().to_string();
+        line.replace_range(54..66, &" ".repeat(12));
+        assert!(parse_pdb_text(&format!("{line}\n")).is_ok());
     }
 
     #[test]
