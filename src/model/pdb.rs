@@ -225,6 +225,11 @@ fn parse_text(
             },
         },
     };
+    let unknown_elements = match &cut_from {
+        Some(_) => unknown_elements_cif(input),
+        None if matches!(format, Format::Pdb) => unknown_elements_pdb(input),
+        None => HashMap::new(),
+    };
     let mut read_options = ReadOptions::new();
     read_options
         .set_format(format)
@@ -316,10 +321,13 @@ fn parse_text(
         order_by_serial(&mut sites);
         for site in sites {
             let atom = site.atom;
-            let element = atom.element().map_or_else(
-                || guess_from_name(atom.name()),
-                |e| element::normalize_symbol(e.symbol()),
-            );
+            // An element field naming no element makes the atom unknown (a
+            // warning and 2 Å), where pdbtbx would guess from its name.
+            let element = match (unknown_elements.get(&atom.serial_number()), atom.element()) {
+                (Some(symbol), _) => element::normalize_symbol(symbol),
+                (None, Some(e)) => element::normalize_symbol(e.symbol()),
+                (None, None) => guess_from_name(atom.name()),
+            };
             if opts.hydrogens == Hydrogens::Drop && element::is_hydrogen(&element) {
                 dropped += 1;
                 dropped_from.push((site.chain, site.seq, site.insertion, site.residue));
@@ -667,6 +675,56 @@ fn cif_values(line: &str) -> Vec<&str> {
             }
         }
         out.push(line.get(start..i).unwrap_or_default());
+    }
+    out
+}
+
+/// Serial → element field, as written, of the atom records of PDB text
+/// whose element field (columns 77-78) names no element `pdbtbx` knows: it
+/// would give those atoms one guessed from their names.
+fn unknown_elements_pdb(text: &str) -> HashMap<usize, String> {
+    let mut out = HashMap::new();
+    for line in text.lines() {
+        if !(line.starts_with("ATOM  ") || line.starts_with("HETATM")) {
+            continue;
+        }
+        let symbol = line.get(76..78).unwrap_or("").trim();
+        if !symbol.is_empty()
+            && pdbtbx::Element::from_symbol(symbol).is_none()
+            && let Some(serial) = line.get(6..11).and_then(|s| s.trim().parse().ok())
+        {
+            out.entry(serial).or_insert_with(|| symbol.to_string());
+        }
+    }
+    out
+}
+
+/// [`unknown_elements_pdb`] for a cut-out `_atom_site` loop
+/// ([`mmcif_atom_site_only`]): its `type_symbol` values by `id`, for rows
+/// one per line.
+fn unknown_elements_cif(cut: &str) -> HashMap<usize, String> {
+    let mut out = HashMap::new();
+    let mut columns: Vec<&str> = Vec::new();
+    for line in cut.lines().skip(2) {
+        if let Some(name) = line.strip_prefix("_atom_site.") {
+            columns.push(name.trim());
+            continue;
+        }
+        let column = |name: &str| columns.iter().position(|c| c.eq_ignore_ascii_case(name));
+        let (Some(t), Some(i)) = (column("type_symbol"), column("id")) else {
+            return out;
+        };
+        let values = cif_values(line);
+        if values.len() != columns.len() {
+            continue;
+        }
+        let symbol = values[t].trim_matches(['\'', '"']);
+        if !matches!(symbol, "" | "." | "?")
+            && pdbtbx::Element::from_symbol(symbol).is_none()
+            && let Ok(serial) = values[i].parse()
+        {
+            out.entry(serial).or_insert_with(|| symbol.to_string());
+        }
     }
     out
 }
@@ -1508,6 +1566,43 @@ END
                 .filter(|w| w.contains(&format!("element {sym} ")) && w.contains("1dt6.pdb"))
                 .count();
             assert_eq!(n, 1, "{sym}: {:?}", l.warnings);
+        }
+    }
+
+    #[test]
+    fn an_element_field_naming_no_element_is_unknown_not_guessed_from_the_name() {
+        // pdbtbx would read "QQ" as chlorine, from the atom name CL.
+        let mut line = atom_line(2, "CL", "LIG", 'A', 1, 1.5)
+            .trim_end()
+            .to_string();
+        line.replace_range(76..78, "QQ");
+        let text = format!("{}{line}\n", atom_line(1, "C1", "LIG", 'A', 1, 0.0));
+        let l = parse_pdb_text(&text).expect("loads");
+        let cif = "data_T\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n\
+                   _atom_site.label_atom_id\n_atom_site.label_comp_id\n_atom_site.label_asym_id\n\
+                   _atom_site.label_seq_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n\
+                   HETATM 1 C C1 LIG A 1 0.0 0.0 0.0\nHETATM 2 QQ CL LIG A 1 1.5 0.0 0.0\n";
+        let c = parse_text(
+            cif,
+            Format::Mmcif,
+            "t.cif",
+            "t.cif",
+            &LoadOptions::default(),
+        )
+        .expect("loads");
+        for l in [l, c] {
+            let a = &l.structure.atoms;
+            assert_eq!((a[0].element.as_str(), a[1].element.as_str()), ("C", "Qq"));
+            assert_eq!(a[1].radius, UNKNOWN_RADIUS);
+            assert_eq!(
+                l.warnings
+                    .iter()
+                    .filter(|w| w.contains("element Qq "))
+                    .count(),
+                1,
+                "{:?}",
+                l.warnings
+            );
         }
     }
 
