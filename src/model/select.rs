@@ -10,8 +10,10 @@
 //! - `auto`: the copy with the most atoms (ties to the first) among hetero
 //!   residues that are not water ([`super::is_water`]) and not in the skip list:
 //!   single-atom residues, the small ions and additives in [`AUTO_SKIPPED`]
-//!   (sulphate, phosphate, glycerol, ...) and common modified amino acids
-//!   (`MSE`, `CSO`, ...), which are part of the protein chain.
+//!   (sulphate, phosphate, glycerol, ...), common modified amino acids
+//!   (`MSE`, `CSO`, ...) and any hetero residue numbered between two polymer
+//!   residues of its chain (a modified residue, such as a tRNA's modified
+//!   nucleotides), which are part of the polymer.
 //!
 //! The receptor is every other atom except waters. Errors name the file and
 //! list the hetero residues that are present, so the user can name one.
@@ -207,14 +209,50 @@ fn residue_groups(s: &Structure) -> Vec<Group<'_>> {
     groups
 }
 
+/// Every non-water residue's (chain, sequence number), and whether one of
+/// the residues there is a polymer (non-hetero) one.
+type Numbering<'a> = HashMap<(&'a str, i64), bool>;
+
+/// [`Numbering`] of `groups`.
+fn numbering<'a>(groups: &[Group<'a>]) -> Numbering<'a> {
+    let mut out = Numbering::new();
+    for g in groups.iter().filter(|g| !is_water(g.name)) {
+        *out.entry((g.chain, g.seq)).or_default() |= !g.hetero;
+    }
+    out
+}
+
+/// True when `g` lies within a polymer chain: on each side, the residues
+/// numbered next to it in its chain, one after another, reach a polymer
+/// residue before a gap in the numbering.
+fn within_polymer(g: &Group<'_>, numbering: &Numbering<'_>) -> bool {
+    let reaches = |step: i64| {
+        let mut k = g.seq;
+        loop {
+            k = k.saturating_add(step);
+            match numbering.get(&(g.chain, k)) {
+                Some(true) => return true,
+                Some(false) => continue,
+                None => return false,
+            }
+        }
+    };
+    reaches(-1) && reaches(1)
+}
+
 /// Why `auto` passes over a hetero residue, or `None` when it is a candidate.
-fn auto_skip_reason(g: &Group<'_>) -> Option<&'static str> {
+/// A hetero residue [`within_polymer`] is a modified residue of the polymer
+/// (a tRNA's modified nucleotides, a modified amino acid not in
+/// [`AUTO_SKIPPED`]).
+fn auto_skip_reason(g: &Group<'_>, numbering: &Numbering<'_>) -> Option<&'static str> {
     if is_water(g.name) {
         Some("water")
     } else if g.atoms.len() == 1 {
         Some("single atom")
     } else if AUTO_SKIPPED.contains(&g.name.to_ascii_uppercase().as_str()) {
         Some("ion, additive or modified amino acid")
+    } else if within_polymer(g, numbering) {
+        Some("modified residue within a polymer chain")
     } else {
         None
     }
@@ -262,9 +300,10 @@ fn pick(s: &Structure, groups: &[Group<'_>], spec: &LigandSpec) -> Result<usize,
     };
     match spec {
         LigandSpec::Auto => {
+            let numbering = numbering(groups);
             let mut best: Option<usize> = None;
             for (i, g) in groups.iter().enumerate() {
-                if !g.hetero || auto_skip_reason(g).is_some() {
+                if !g.hetero || auto_skip_reason(g, &numbering).is_some() {
                     continue;
                 }
                 if best.is_none_or(|b| g.atoms.len() > groups[b].atoms.len()) {
@@ -272,18 +311,21 @@ fn pick(s: &Structure, groups: &[Group<'_>], spec: &LigandSpec) -> Result<usize,
                 }
             }
             best.ok_or_else(|| {
-                let skipped: Vec<String> = groups
+                // Names by reason, each in first-seen order: `MG, MN (single atom)`.
+                let mut by_reason: Vec<(&str, Vec<&str>)> = Vec::new();
+                for g in groups.iter().filter(|g| g.hetero && !is_water(g.name)) {
+                    let Some(r) = auto_skip_reason(g, &numbering) else {
+                        continue;
+                    };
+                    match by_reason.iter_mut().find(|(q, _)| *q == r) {
+                        Some((_, names)) if names.contains(&g.name) => {}
+                        Some((_, names)) => names.push(g.name),
+                        None => by_reason.push((r, vec![g.name])),
+                    }
+                }
+                let skipped: Vec<String> = by_reason
                     .iter()
-                    .filter(|g| g.hetero && !is_water(g.name))
-                    .filter_map(|g| auto_skip_reason(g).map(|r| (g.name, r)))
-                    .fold(Vec::new(), |mut acc: Vec<(&str, &str)>, (n, r)| {
-                        if !acc.iter().any(|(m, _)| *m == n) {
-                            acc.push((n, r));
-                        }
-                        acc
-                    })
-                    .into_iter()
-                    .map(|(n, r)| format!("{n} ({r})"))
+                    .map(|(r, names)| format!("{} ({r})", names.join(", ")))
                     .collect();
                 if skipped.is_empty() {
                     fail(format!(
@@ -294,7 +336,7 @@ fn pick(s: &Structure, groups: &[Group<'_>], spec: &LigandSpec) -> Result<usize,
                     fail(format!(
                         "no ligand found automatically: the only hetero residues are {}, \
                          which auto skips; name one (e.g. {}) or give the drug as a separate file",
-                        skipped.join(", "),
+                        skipped.join("; "),
                         groups
                             .iter()
                             .find(|g| g.hetero && !is_water(g.name))
@@ -629,6 +671,43 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("CU") && err.contains("single atom"), "{err}");
+    }
+
+    #[test]
+    fn auto_passes_over_modified_residues_within_a_chain() {
+        // tRNA-Phe: eleven kinds of modified nucleotide, runs of them
+        // (PSU 39, 5MC 40) included, and magnesium and manganese ions.
+        let Some(s) = structure("1ehz.cif", Hydrogens::Drop) else {
+            return;
+        };
+        let err = split_complex(&s, &LigandSpec::Auto)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("YYG") && err.contains("5MC") && err.contains("within a polymer chain"),
+            "{err}"
+        );
+        // Named, one is still taken.
+        let (_, yyg) = split_complex(&s, &spec("YYG")).unwrap();
+        assert!(yyg.len() > 20);
+        // A hetero residue numbered past the chain's end (a ligand) is not
+        // within it; the rule needs a polymer residue on both sides.
+        let groups = residue_groups(&s);
+        let numbering = numbering(&groups);
+        let last = groups
+            .iter()
+            .filter(|g| !g.hetero && g.chain == "A")
+            .map(|g| g.seq)
+            .max();
+        let ligand = Group {
+            chain: "A",
+            seq: last.unwrap() + 1,
+            insertion: "",
+            name: "LIG",
+            hetero: true,
+            atoms: vec![0, 1],
+        };
+        assert_eq!(auto_skip_reason(&ligand, &numbering), None);
     }
 
     #[test]
