@@ -28,7 +28,7 @@ pub struct TouchArgs {
     translate: DVec3,
     /// Proposed turn about the drug's centre: axis AX,AY,AZ and degrees. The
     /// motion is the screw from the start pose to the turned end pose, so a
-    /// turn goes the shorter way round: 270° runs as −90°, 360° is no turn.
+    /// turn goes the shorter way round: 270° runs as −90°, −180° as 180°, 360° is no turn.
     #[arg(long, value_name = "AX,AY,AZ,DEG", value_parser = parse_turn, allow_hyphen_values = true)]
     turn: Option<Turn>,
     /// Start at the file pose shifted by DX,DY,DZ Å.
