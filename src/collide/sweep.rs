@@ -245,7 +245,9 @@ fn violates(colliding: &[Pair], start_colliding: &[Pair]) -> bool {
 }
 
 /// True when a pair of `start_colliding` is closer at `pose` than at
-/// `start`, in f64.
+/// `start`, in f64. Out of line: only a colliding start gets here.
+#[cold]
+#[inline(never)]
 fn deepens(
     collider: &Collider,
     drug: &DrugAtoms,
@@ -883,7 +885,9 @@ fn swept_with<const TRANSLATION: bool>(
         // pose on the way (a push repeated from each stop would sink the
         // drug by the dip every time). Such a pair approaches from its start
         // on, so the stop is the start itself.
-        let sinks = t < 1.0 && deepens(collider, drug, &start, &pose, &start_colliding);
+        let sinks = !start_colliding.is_empty()
+            && t < 1.0
+            && deepens(collider, drug, &start, &pose, &start_colliding);
         if t <= 0.0 || !(sinks || violates(&colliding, &start_colliding)) {
             break;
         }
