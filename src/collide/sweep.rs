@@ -883,8 +883,9 @@ fn swept_with<const TRANSLATION: bool>(
         // the start no closer (in f64) than there: the dip its target
         // tolerates is for a whole motion that ends no deeper, not for a
         // pose on the way (a push repeated from each stop would sink the
-        // drug by the dip every time). Such a pair approaches from its start
-        // on, so the stop is the start itself.
+        // drug by the dip every time). The stop is then the start itself:
+        // such a pair usually approaches from the start on (one that first
+        // recedes, on a screw, could have gone a little way).
         let sinks = !start_colliding.is_empty()
             && t < 1.0
             && deepens(collider, drug, &start, &pose, &start_colliding);

@@ -785,9 +785,10 @@ fn diagnose_atom_site(cut: &str, from: &[usize]) -> Option<(usize, String)> {
 /// other lines pass unchanged. Line count and order are kept.
 ///
 /// # Errors
-/// [`LoadError::Parse`], naming the line, for a coordinate that reads as a
-/// number but is not finite or lies beyond [`MAX_FILE_COORDINATE`], and for
-/// a residue number that a chain gives to two different residues.
+/// [`LoadError::Parse`], naming the line, for an atom record that
+/// [`check_atom_fields`] refuses (cut short, a numeric field that is not a
+/// number, a coordinate not finite or beyond [`MAX_FILE_COORDINATE`]), and
+/// for a residue number that a chain gives to two different residues.
 fn normalise_pdb(text: &str, label: &str) -> Result<String, LoadError> {
     if let Some((index, _)) = text
         .lines()
