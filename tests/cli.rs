@@ -101,6 +101,13 @@ fn builtin_scene_docks_by_a_straight_push() {
         "{}",
         stderr(&out)
     );
+    // A negative one is read as a value (not an option) and refused, named.
+    let out = bump(&["touch", "--move", "0,0,1", "--tolerance", "-1e-3"]);
+    assert!(
+        stderr(&out).contains("--tolerance must be a positive number of Å, got -0.001"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]

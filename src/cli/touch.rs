@@ -43,7 +43,7 @@ pub struct TouchArgs {
     /// Distance tolerance of the touch, Å (at least 1e-5: closer than that,
     /// f32 coordinates cannot tell touching from colliding; at most 1: the
     /// drug stops within it of contact, so a larger one stops it short).
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = 1e-3, allow_hyphen_values = true)]
     tolerance: f64,
     /// Print JSON.
     #[arg(long)]
