@@ -192,10 +192,7 @@ fn moving_a_molecule_uploads_matrices_only_and_highlights_only_changed_words() {
     off.render(&gpu, &s, &ViewParams::default())
         .expect("render");
     let before = off.spheres.upload_stats();
-    s.step(
-        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-        0.0,
-    );
+    s.step(&FrameInput::docking(), 0.0);
     let out = s.step(
         &FrameInput::nudged(DVec3::new(0.0, 5.0, 25.0), DVec3::ZERO),
         0.0,

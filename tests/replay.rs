@@ -684,13 +684,7 @@ fn joystick_values_at_and_beyond_their_limits_never_break_the_session() {
     let map = JoystickMap::default();
     let mut c = Controllers::default();
     let mut s = builtin_session(ColliderKind::Hashed);
-    s.step(
-        &FrameInput {
-            commands: vec![Command::ToggleMode, Command::ToggleCollision],
-            ..FrameInput::default()
-        },
-        DT,
-    );
+    s.step(&FrameInput::docking(), DT);
     c.apply(&map, pad(1, "Pad"));
     let mut rng = common::Rng(0xdead_beef);
     let sources = [

@@ -40,10 +40,7 @@ fn view_mode_moves_the_camera_not_the_molecules() {
 #[test]
 fn collision_on_stops_the_e_at_the_rings_and_off_lets_it_through() {
     let mut s = builtin_session();
-    s.step(
-        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-        0.0,
-    );
+    s.step(&FrameInput::docking(), 0.0);
     assert_eq!(s.mode(), Mode::Object);
     // Misalign the prongs, then push 25 Å towards the rings (screen z is
     // world z with the initial camera): the E stops touching.
@@ -68,10 +65,7 @@ fn collision_on_stops_the_e_at_the_rings_and_off_lets_it_through() {
 #[test]
 fn each_response_is_one_command_away() {
     let mut s = builtin_session();
-    s.step(
-        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-        0.0,
-    );
+    s.step(&FrameInput::docking(), 0.0);
     s.step(&push(DVec3::new(0.0, 5.0, 0.0)), 0.0);
     let start = s.bodies()[1].pose;
     s.step(
@@ -193,10 +187,7 @@ fn selecting_the_receptor_moves_it_against_the_drug() {
 #[test]
 fn nonsense_input_is_ignored_not_fatal() {
     let mut s = builtin_session();
-    s.step(
-        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-        0.0,
-    );
+    s.step(&FrameInput::docking(), 0.0);
     let p = s.bodies()[1].pose;
     let out = s.step(&push(DVec3::new(f64::NAN, 0.0, 0.0)), 0.0);
     assert!(!out.messages.is_empty());
@@ -221,10 +212,7 @@ fn three_molecules_collide_with_each_other() {
     let (rings, e) = builtin::scene(RadiiSet::Bondi);
     let (_, e2) = builtin::scene(RadiiSet::Bondi);
     let mut s = Session::new(vec![rings, e, e2], Settings::default()).expect("session");
-    s.step(
-        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-        0.0,
-    );
+    s.step(&FrameInput::docking(), 0.0);
     // The two Es start on top of each other: moving one away is allowed,
     // moving it deeper is not.
     let out = s.step(&push(DVec3::new(0.0, 0.0, 0.5)), 0.0);
@@ -318,10 +306,7 @@ fn an_empty_session_waits_for_files_without_panicking() {
 #[test]
 fn highlight_changes_are_exactly_the_atoms_that_changed() {
     let mut s = builtin_session();
-    s.step(
-        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-        0.0,
-    );
+    s.step(&FrameInput::docking(), 0.0);
     s.step(&push(DVec3::new(0.0, 5.0, 0.0)), 0.0);
     let hit = s.step(&push(DVec3::new(0.0, 0.0, 25.0)), 0.0);
     let mut lit: Vec<(usize, usize)> = hit

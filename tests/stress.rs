@@ -170,10 +170,7 @@ fn builtin_session(offset: DVec3) -> Session {
         Settings::default(),
     )
     .expect("session");
-    s.step(
-        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-        0.0,
-    );
+    s.step(&FrameInput::docking(), 0.0);
     s
 }
 

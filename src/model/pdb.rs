@@ -704,16 +704,18 @@ fn unknown_elements_pdb(text: &str) -> HashMap<usize, String> {
 /// one per line.
 fn unknown_elements_cif(cut: &str) -> HashMap<usize, String> {
     let mut out = HashMap::new();
+    // The cut-out is `data_`, `loop_`, the column names, then the rows.
+    let mut lines = cut.lines().skip(2).peekable();
     let mut columns: Vec<&str> = Vec::new();
-    for line in cut.lines().skip(2) {
-        if let Some(name) = line.strip_prefix("_atom_site.") {
-            columns.push(name.trim());
-            continue;
-        }
-        let column = |name: &str| columns.iter().position(|c| c.eq_ignore_ascii_case(name));
-        let (Some(t), Some(i)) = (column("type_symbol"), column("id")) else {
-            return out;
-        };
+    while let Some(name) = lines.peek().and_then(|l| l.strip_prefix("_atom_site.")) {
+        columns.push(name.trim());
+        lines.next();
+    }
+    let column = |name: &str| columns.iter().position(|c| c.eq_ignore_ascii_case(name));
+    let (Some(t), Some(i)) = (column("type_symbol"), column("id")) else {
+        return out;
+    };
+    for line in lines {
         let values = cif_values(line);
         if values.len() != columns.len() {
             continue;
@@ -1125,6 +1127,16 @@ mod tests {
         )
     }
 
+    fn parse_cif_text(text: &str) -> Result<Loaded, LoadError> {
+        parse_text(
+            text,
+            Format::Mmcif,
+            "t.cif",
+            "t.cif",
+            &LoadOptions::default(),
+        )
+    }
+
     #[test]
     fn element_guessing_follows_pdb_alignment() {
         let g = |n: &str, r: &str| guess_pdb_element(n, r).unwrap();
@@ -1285,17 +1297,9 @@ END
     #[test]
     fn parser_panic_becomes_parse_error() {
         // pdbtbx `expect`s an element: `?` makes it panic.
-        let text = "data_T\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n\
-                    _atom_site.label_atom_id\n_atom_site.label_comp_id\n_atom_site.label_asym_id\n\
-                    _atom_site.label_seq_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n\
-                    ATOM 1 ? N MET A 1 0.0 0.0 0.0\n";
-        let r = parse_text(
-            text,
-            Format::Mmcif,
-            "t.cif",
-            "t.cif",
-            &LoadOptions::default(),
-        );
+        let r = parse_cif_text(&mmcif_with_rows(&[
+            "ATOM 1 ? N . MET A 1 1 ? 0.0 0.0 0.0 1.0",
+        ]));
         assert!(matches!(r, Err(LoadError::Parse { .. })), "{r:?}");
     }
 
@@ -1579,17 +1583,10 @@ END
         line.replace_range(76..78, "QQ");
         let text = format!("{}{line}\n", atom_line(1, "C1", "LIG", 'A', 1, 0.0));
         let l = parse_pdb_text(&text).expect("loads");
-        let cif = "data_T\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n\
-                   _atom_site.label_atom_id\n_atom_site.label_comp_id\n_atom_site.label_asym_id\n\
-                   _atom_site.label_seq_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n\
-                   HETATM 1 C C1 LIG A 1 0.0 0.0 0.0\nHETATM 2 QQ CL LIG A 1 1.5 0.0 0.0\n";
-        let c = parse_text(
-            cif,
-            Format::Mmcif,
-            "t.cif",
-            "t.cif",
-            &LoadOptions::default(),
-        )
+        let c = parse_cif_text(&mmcif_with_rows(&[
+            "HETATM 1 C C1 . LIG A 1 1 ? 0.0 0.0 0.0 1.0",
+            "HETATM 2 QQ CL . LIG A 1 1 ? 1.5 0.0 0.0 1.0",
+        ]))
         .expect("loads");
         for l in [l, c] {
             let a = &l.structure.atoms;
@@ -1700,13 +1697,7 @@ END
     }
 
     fn mmcif_error(text: &str) -> (Option<usize>, String) {
-        match parse_text(
-            text,
-            Format::Mmcif,
-            "t.cif",
-            "t.cif",
-            &LoadOptions::default(),
-        ) {
+        match parse_cif_text(text) {
             Err(LoadError::Parse { line, reason, .. }) => (line, reason),
             other => panic!("expected a parse error, got {other:?}"),
         }
@@ -1715,16 +1706,7 @@ END
     #[test]
     fn mmcif_row_errors_name_the_files_line() {
         let good = "ATOM 1 N N . ALA A 1 1 ? 1.0 2.0 3.0 1.0";
-        assert!(
-            parse_text(
-                &mmcif_with_rows(&[good]),
-                Format::Mmcif,
-                "t.cif",
-                "t.cif",
-                &LoadOptions::default()
-            )
-            .is_ok()
-        );
+        assert!(parse_cif_text(&mmcif_with_rows(&[good])).is_ok());
         // A short row: its own line (21), not the loop's.
         let (line, reason) = mmcif_error(&mmcif_with_rows(&[
             good,

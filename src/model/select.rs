@@ -654,22 +654,22 @@ mod tests {
         assert_eq!(mtx.len(), 33);
     }
 
+    /// Why `auto` finds no ligand in `s`.
+    fn auto_error(s: &Structure) -> String {
+        split_complex(s, &LigandSpec::Auto).unwrap_err().to_string()
+    }
+
     #[test]
     fn auto_errors_list_what_is_there() {
         let Some(s) = structure("1ubq.pdb", Hydrogens::Drop) else {
             return;
         };
-        let err = split_complex(&s, &LigandSpec::Auto)
-            .unwrap_err()
-            .to_string();
+        let err = auto_error(&s);
         assert!(
             err.contains("1ubq.pdb") && err.contains("no hetero"),
             "{err}"
         );
-        let s = structure("1azv.pdb", Hydrogens::Drop).unwrap();
-        let err = split_complex(&s, &LigandSpec::Auto)
-            .unwrap_err()
-            .to_string();
+        let err = auto_error(&structure("1azv.pdb", Hydrogens::Drop).unwrap());
         assert!(err.contains("CU") && err.contains("single atom"), "{err}");
     }
 
@@ -680,9 +680,7 @@ mod tests {
         let Some(s) = structure("1ehz.cif", Hydrogens::Drop) else {
             return;
         };
-        let err = split_complex(&s, &LigandSpec::Auto)
-            .unwrap_err()
-            .to_string();
+        let err = auto_error(&s);
         assert!(
             err.contains("YYG") && err.contains("5MC") && err.contains("within a polymer chain"),
             "{err}"

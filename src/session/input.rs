@@ -149,6 +149,12 @@ impl FrameInput {
         }
     }
 
+    /// The frame that takes a new session (view mode, collision off) to
+    /// docking: object mode, collision on.
+    pub fn docking() -> Self {
+        Self::with_commands(&[Command::ToggleMode, Command::ToggleCollision])
+    }
+
     /// A frame that only nudges the view or the selected molecule (as the
     /// mode says) once by `translate` (Å) and `rotate` (an axis-angle
     /// vector, radians).

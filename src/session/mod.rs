@@ -893,6 +893,11 @@ mod tests {
     use super::*;
     use crate::model::{RadiiSet, builtin};
 
+    /// One frame moving the selected molecule (object mode) by `v`.
+    fn nudge(s: &mut Session, v: DVec3) {
+        s.step(&FrameInput::nudged(v, DVec3::ZERO), 0.0);
+    }
+
     fn env_collider(s: &Session) -> Arc<Collider> {
         Arc::clone(&s.env.as_ref().expect("an environment").collider)
     }
@@ -905,36 +910,21 @@ mod tests {
     fn a_molecules_collider_and_moving_atoms_are_built_once_whatever_is_selected_or_moved() {
         let (rings, e) = builtin::scene(RadiiSet::Bondi);
         let mut s = Session::new(vec![rings, e], Settings::default()).expect("session");
-        s.step(
-            &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-            0.0,
-        );
-        s.step(
-            &FrameInput::nudged(DVec3::new(0.0, 0.0, 1.0), DVec3::ZERO),
-            0.0,
-        );
+        s.step(&FrameInput::docking(), 0.0);
+        nudge(&mut s, DVec3::new(0.0, 0.0, 1.0));
         let (rings_collider, e_atoms) = (env_collider(&s), env_drug(&s));
         // Select the rings and move them (the E's collider is built), then
         // the E again: the rings' collider is the one built first.
         s.step(&FrameInput::with_commands(&[Command::Select(0)]), 0.0);
-        s.step(
-            &FrameInput::nudged(DVec3::new(0.0, 2.0, 0.0), DVec3::ZERO),
-            0.0,
-        );
+        nudge(&mut s, DVec3::new(0.0, 2.0, 0.0));
         let (e_collider, rings_atoms) = (env_collider(&s), env_drug(&s));
         s.step(&FrameInput::with_commands(&[Command::Select(1)]), 0.0);
-        s.step(
-            &FrameInput::nudged(DVec3::new(0.0, 0.0, 1.0), DVec3::ZERO),
-            0.0,
-        );
+        nudge(&mut s, DVec3::new(0.0, 0.0, 1.0));
         assert!(Arc::ptr_eq(&env_collider(&s), &rings_collider));
         assert!(Arc::ptr_eq(&env_drug(&s), &e_atoms));
         assert_eq!(s.env.as_ref().map(|e| e.frame), Some(s.bodies[0].pose));
         s.step(&FrameInput::with_commands(&[Command::Select(0)]), 0.0);
-        s.step(
-            &FrameInput::nudged(DVec3::new(0.0, 1.0, 0.0), DVec3::ZERO),
-            0.0,
-        );
+        nudge(&mut s, DVec3::new(0.0, 1.0, 0.0));
         assert!(Arc::ptr_eq(&env_collider(&s), &e_collider));
         assert!(Arc::ptr_eq(&env_drug(&s), &rings_atoms));
     }
@@ -944,14 +934,8 @@ mod tests {
         let (rings, e) = builtin::scene(RadiiSet::Bondi);
         let (_, e2) = builtin::scene(RadiiSet::Bondi);
         let mut s = Session::new(vec![rings, e, e2], Settings::default()).expect("session");
-        s.step(
-            &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-            0.0,
-        );
-        s.step(
-            &FrameInput::nudged(DVec3::new(0.0, 30.0, 0.0), DVec3::ZERO),
-            0.0,
-        );
+        s.step(&FrameInput::docking(), 0.0);
+        nudge(&mut s, DVec3::new(0.0, 30.0, 0.0));
         let env = s.env.as_ref().expect("an environment");
         let n = s.bodies[0].molecule.len() + s.bodies[1].molecule.len();
         assert_eq!(env.collider.len(), n);

@@ -233,10 +233,7 @@ fn uploads(headline: &mut Vec<String>) -> String {
         return "\nRenderer uploads: skipped, rendering failed.\n".into();
     }
     let created = off.spheres.upload_stats();
-    s.step(
-        &FrameInput::with_commands(&[Command::ToggleMode, Command::ToggleCollision]),
-        0.0,
-    );
+    s.step(&FrameInput::docking(), 0.0);
     let frames = 100;
     let mut drawn = 0;
     for k in 0..frames {
