@@ -426,6 +426,40 @@ fn bad_input_gets_clear_errors() {
     }
     let out = bump(&["check", "unknown.xyz"]);
     assert!(stderr(&out).contains("unknown format"), "{}", stderr(&out));
+    // Negative numbers are values, refused by the option's own check (clap
+    // would call them unknown arguments and suggest `-- -1`).
+    for (args, says) in [
+        (
+            &["check", tiny, tiny, "--record", "-1"][..],
+            "`-1` is not a whole number",
+        ),
+        (
+            &["stats", tiny, "--cell", "-1"][..],
+            "--cell must be a cell edge above 0.1 Å, got -1",
+        ),
+        (
+            &["stats", tiny, "--hash-cells", "-4096"][..],
+            "`-4096` is not a whole number",
+        ),
+    ] {
+        let out = bump(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).contains(says), "{}", stderr(&out));
+    }
+    // An absurd coordinate is quoted as written, not in 300 digits.
+    let huge = dir.join("huge.pdb");
+    std::fs::write(
+        &huge,
+        "ATOM      1  N   MET A   1    1.0e300  20.158  39.260  1.00  0.00           N\n",
+    )
+    .expect("write");
+    let out = bump(&["stats", huge.to_str().expect("path")]);
+    let e = stderr(&out);
+    assert!(
+        e.contains("huge.pdb:1: x coordinate 1.0e300 is beyond"),
+        "{e}"
+    );
+    assert!(e.len() < 200, "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

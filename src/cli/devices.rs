@@ -13,7 +13,7 @@ use clap::Args;
 #[derive(Debug, Args)]
 pub struct DevicesArgs {
     /// Watch this many seconds (0: list and exit).
-    #[arg(long, default_value_t = 30.0)]
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     seconds: f64,
     /// The joystick map whose profiles to show (default: the built-in one).
     #[arg(long, value_name = "FILE")]

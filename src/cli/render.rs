@@ -32,7 +32,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "AX,AY,AZ,DEG", value_parser = parse_turn, allow_hyphen_values = true)]
     view_turn: Option<Turn>,
     /// Zoom factor (2 = twice as close).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     zoom: f64,
     /// Direction towards the light, view space X,Y,Z.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
@@ -44,23 +44,23 @@ pub struct RenderArgs {
     #[arg(long, default_value = "depth", value_parser = Cues::parse)]
     cue: Cues,
     /// Depth-cueing strength, 0..1 (how far the farthest atoms fade).
-    #[arg(long, default_value = "0.6", value_parser = parse_f32)]
+    #[arg(long, default_value = "0.6", value_parser = parse_f32, allow_negative_numbers = true)]
     depth_strength: f32,
     /// Stereo mode: mono, side-by-side, side-by-side-half, top-bottom,
     /// top-bottom-half, rows, columns, anaglyph, frame-sequential.
     #[arg(long, default_value = "mono", value_parser = parse_stereo)]
     stereo: StereoMode,
     /// Eye separation as a fraction of the convergence distance.
-    #[arg(long, default_value_t = 0.03)]
+    #[arg(long, default_value_t = 0.03, allow_negative_numbers = true)]
     eye_sep: f64,
     /// Convergence distance as a fraction of the distance to the view centre.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     convergence: f64,
     /// Swap the eyes.
     #[arg(long)]
     swap_eyes: bool,
     /// Frame number (frame-sequential stereo: even frames show the left eye).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     frame: u64,
 }
 

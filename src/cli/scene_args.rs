@@ -30,7 +30,7 @@ pub struct SceneArgs {
     #[arg(long)]
     pub ligand: Option<String>,
     /// SDF record to read from the drug file (1-based).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_whole)]
     pub record: Option<usize>,
     /// Radius table: bondi (Bondi 1964, Mantina 2009) or thesis (Turk 1989).
     #[arg(long, default_value = "bondi", value_parser = parse_radii)]
@@ -82,6 +82,14 @@ pub fn parse_f32(s: &str) -> Result<f32, String> {
         return Err(format!("`{s}`: not a finite number"));
     }
     Ok(single)
+}
+
+/// Parses a count or a 1-based number: a whole number, 0 or more (the
+/// option's own check refuses 0 where it means nothing).
+pub fn parse_whole(s: &str) -> Result<usize, String> {
+    s.trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a whole number (0, 1, 2, ...)"))
 }
 
 /// Parses `X,Y,Z` into a vector of finite numbers.

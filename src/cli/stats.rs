@@ -7,7 +7,7 @@ use bump::model::{self, Hydrogens, LoadOptions, RadiiSet, receptor_only};
 use clap::Args;
 use serde::Serialize;
 
-use super::scene_args::{parse_f32, parse_hydrogens, parse_radii};
+use super::scene_args::{parse_f32, parse_hydrogens, parse_radii, parse_whole};
 
 /// Arguments of `bump stats`.
 #[derive(Debug, Args)]
@@ -16,10 +16,15 @@ pub struct StatsArgs {
     #[arg(required = true)]
     files: Vec<PathBuf>,
     /// Cell edge in Å (default: the diameter of the largest atom, as the thesis).
-    #[arg(long, value_parser = parse_f32)]
+    #[arg(long, value_parser = parse_f32, allow_negative_numbers = true)]
     cell: Option<f32>,
     /// Buckets of the hashed table.
-    #[arg(long, default_value_t = THESIS_HASH_CELLS)]
+    #[arg(
+        long,
+        default_value_t = THESIS_HASH_CELLS,
+        allow_negative_numbers = true,
+        value_parser = parse_whole
+    )]
     hash_cells: usize,
     /// Radius table: thesis (Turk 1989, the default here, as Table 1) or
     /// bondi (Bondi 1964, Mantina 2009).

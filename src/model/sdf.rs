@@ -329,7 +329,10 @@ impl Record<'_> {
             if value.abs() > MAX_FILE_COORDINATE {
                 return Err(self.err(
                     i,
-                    format!("{name} coordinate {value} is beyond ±{MAX_FILE_COORDINATE:e} Å"),
+                    format!(
+                        "{name} coordinate {} is beyond ±{MAX_FILE_COORDINATE:e} Å",
+                        text.trim()
+                    ),
                 ));
             }
             *slot = value;

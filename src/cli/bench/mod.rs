@@ -40,10 +40,10 @@ pub struct BenchArgs {
     #[arg(long, default_value = "../shared/pdb")]
     data: PathBuf,
     /// Random approach queries per scene in the run-time-against-error comparison.
-    #[arg(long, default_value_t = 500)]
+    #[arg(long, default_value_t = 500, allow_negative_numbers = true)]
     queries: usize,
     /// Repetitions of each timed query (the median is kept).
-    #[arg(long, default_value_t = 21)]
+    #[arg(long, default_value_t = 21, allow_negative_numbers = true)]
     reps: usize,
     /// A short run: few queries and repetitions, the two smallest receptors
     /// (for testing the command, not for figures).
