@@ -208,6 +208,35 @@ fn check_reports_serials_and_the_rule() {
     assert_eq!(serials, (1..=21).collect::<Vec<u64>>());
 }
 
+/// Residues with insertion codes (trypsin's 184A, 188A, 221A) are named
+/// with them, in the table and in JSON.
+#[test]
+fn pairs_name_insertion_codes() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let f = dir.join("3ptb.pdb");
+    let f = f.to_str().expect("path");
+    // Benzamidine pushed into the pocket wall at ALA 221A.
+    let args = ["check", f, "--ligand", "BEN", "--move=-3.42,0.287,-1.074"];
+    let v = json(&[&args[..], &["--json"]].concat());
+    let clashes = v["clashes"].as_array().expect("clashes");
+    let ala = clashes
+        .iter()
+        .find(|c| c["receptor_serial"] == 1423)
+        .expect("N ALA 221A (serial 1423) clashes");
+    assert_eq!(ala["receptor_seq"], 221);
+    assert_eq!(ala["receptor_insertion"], "A");
+    assert_eq!(ala["drug_insertion"], "");
+    assert!(clashes.iter().any(|c| c["receptor_insertion"] == ""));
+    let out = bump(&args);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.lines().any(|l| l.contains(" 1423 N    ALA   221A A ")),
+        "{text}"
+    );
+}
+
 #[test]
 fn touch_from_outside_the_pocket() {
     let Some(dir) = common::shared_pdb() else {

@@ -217,7 +217,7 @@ pub fn show(ui: &mut egui::Ui, session: &Session, hud: &mut HudState) -> Vec<Com
                             a.residue,
                             b.residue,
                             b.chain,
-                            b.seq,
+                            b.residue_number(),
                             b.name,
                             c.distance,
                             overlap

@@ -664,7 +664,7 @@ impl App {
                     a.name,
                     a.residue,
                     a.chain,
-                    a.seq,
+                    a.residue_number(),
                     a.element,
                     a.serial,
                     a.element,

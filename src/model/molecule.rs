@@ -34,6 +34,14 @@ pub struct AtomInfo {
     pub hetero: bool,
 }
 
+impl AtomInfo {
+    /// The residue number as files and viewers write it: the sequence number
+    /// followed by the insertion code, if any (`221A`).
+    pub fn residue_number(&self) -> String {
+        format!("{}{}", self.seq, self.insertion)
+    }
+}
+
 /// A rigid molecule ready for collision detection.
 #[derive(Debug, Clone)]
 pub struct Molecule {
