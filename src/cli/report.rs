@@ -90,6 +90,22 @@ pub fn counted(n: usize, noun: &str) -> String {
     }
 }
 
+/// A fraction of a motion in [0, 1] to six decimals, or more digits where
+/// six would round a partial motion to 0 or to 1 (a step of 10⁹ Å that
+/// moves the drug 0.5 Å is t = 5.1e-10, not 0).
+pub fn fraction(t: f64) -> String {
+    let six = format!("{t:.6}");
+    if t > 0.0 && six == "0.000000" {
+        format!("{t:.3e}")
+    } else if t < 1.0 && six == "1.000000" {
+        // Enough decimals to show the first digit that is not 9.
+        let decimals = (-(1.0 - t).log10()).ceil() as usize + 2;
+        format!("{t:.*}", decimals.min(17))
+    } else {
+        six
+    }
+}
+
 /// Prints pairs as an aligned table.
 pub fn print_pairs(reports: &[PairReport]) {
     if reports.is_empty() {
@@ -165,5 +181,21 @@ pub fn molecule_report(source: &str, m: &Molecule) -> MoleculeReport {
         source: source.to_string(),
         name: m.name.clone(),
         atoms: m.len(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fractions_never_round_a_partial_motion_to_its_ends() {
+        assert_eq!(fraction(0.0), "0.000000");
+        assert_eq!(fraction(1.0), "1.000000");
+        assert_eq!(fraction(0.25), "0.250000");
+        assert_eq!(fraction(5.0914e-10), "5.091e-10");
+        assert_eq!(fraction(0.999_999_758), "0.999999758");
+        assert_eq!(fraction(1.0 - 1e-16), "0.99999999999999989");
+        assert_eq!(fraction(0.999_999_4), "0.999999");
     }
 }

@@ -9,8 +9,8 @@ use glam::DVec3;
 use serde::Serialize;
 
 use super::report::{
-    MoleculeReport, PairReport, RuleReport, counted, molecule_report, pair_report, pair_reports,
-    print_pairs, rule_report,
+    MoleculeReport, PairReport, RuleReport, counted, fraction, molecule_report, pair_report,
+    pair_reports, print_pairs, rule_report,
 };
 use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed, within_range};
 use bump::motion::pose::PoseSummary;
@@ -243,8 +243,8 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
         "of the motion".to_string()
     };
     outln!(
-        "t = {:.6} {of} ({:.1} µs)\nfinal centre ({:.4}, {:.4}, {:.4}), moved ({:.4}, {:.4}, {:.4}); rotation {:.3}° about ({:.3}, {:.3}, {:.3})",
-        report.t,
+        "t = {} {of} ({:.1} µs)\nfinal centre ({:.4}, {:.4}, {:.4}), moved ({:.4}, {:.4}, {:.4}); rotation {:.3}° about ({:.3}, {:.3}, {:.3})",
+        fraction(report.t),
         report.elapsed_us,
         f.pose.centre[0],
         f.pose.centre[1],
