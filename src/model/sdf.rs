@@ -4,9 +4,10 @@
 //! picks one (1-based, the first by default). Only the atom block is read:
 //! coordinates and element symbols. Bonds and properties are skipped.
 //!
-//! V2000: the counts line (record line 4) gives the atom count in columns 1–3;
-//! each atom line holds x, y, z in columns 1–10, 11–20, 21–30 and the symbol in
-//! 32–34. A line that does not fit the columns is read as whitespace-separated
+//! The counts line (record line 4) ends in the version, `V2000` (or nothing,
+//! in old files) or `V3000`; another is refused. V2000: the counts line gives
+//! the atom count in columns 1–3; each atom line holds x, y, z in columns
+//! 1–10, 11–20, 21–30 and the symbol in 32–34. A line that does not fit the columns is read as whitespace-separated
 //! fields instead (some writers do not pad). V3000: the `M  V30` lines (with
 //! `-` continuation) between `BEGIN ATOM` and `END ATOM`, checked against the
 //! `COUNTS` line.
@@ -202,10 +203,14 @@ impl Record<'_> {
                 "record ends before its counts line (line 4 of the record)",
             ));
         };
-        if counts.contains("V3000") {
-            self.parse_v3000()
-        } else {
-            self.parse_v2000(counts)
+        match version_tag(counts) {
+            Some(tag) if tag.eq_ignore_ascii_case("V3000") => self.parse_v3000(),
+            Some(tag) if tag.eq_ignore_ascii_case("V2000") => self.parse_v2000(counts),
+            None => self.parse_v2000(counts),
+            Some(other) => Err(self.err(
+                3,
+                format!("counts line names molfile version {other}; bump reads V2000 and V3000"),
+            )),
         }
     }
 
@@ -441,6 +446,15 @@ impl Record<'_> {
     }
 }
 
+/// The version tag of a counts line (`V2000`, `V3000`): a `V` and four
+/// digits, as its last field (columns 34–39 when aligned); `None` for the
+/// old files that have none, which are V2000.
+fn version_tag(counts: &str) -> Option<&str> {
+    let last = counts.split_whitespace().last()?;
+    let tag = last.get(last.len().checked_sub(5)?..)?;
+    (tag.starts_with(['V', 'v']) && tag[1..].bytes().all(|b| b.is_ascii_digit())).then_some(tag)
+}
+
 /// A V2000 atom line read by its fixed columns, if it fits them.
 fn fixed_v2000_atom(line: &str) -> Option<(String, DVec3)> {
     let pos = fixed_v2000_coords(line)?;
@@ -526,6 +540,34 @@ second molecule name that is long
 M  END
 $$$$
 ";
+
+    #[test]
+    fn the_counts_lines_version_picks_the_reader() {
+        assert_eq!(
+            version_tag("  2  1  0  0  0  0  0  0  0  0999 V2000"),
+            Some("V2000")
+        );
+        assert_eq!(
+            version_tag("  0  0  0     0  0            999 V3000"),
+            Some("V3000")
+        );
+        assert_eq!(
+            version_tag("  2  1  0  0  0  0  0  0  0  0999V2000"),
+            Some("V2000")
+        );
+        assert_eq!(version_tag("  2  1"), None);
+        assert_eq!(version_tag(""), None);
+        let v9 = "x\n\n\n  1  0  0  0  0  0  0  0  0  0999 V9999\n    0.0000    0.0000    0.0000 C   0  0\nM  END\n";
+        let e = parse(v9).expect_err("V9999");
+        assert!(
+            e.to_string()
+                .contains(":4: counts line names molfile version V9999"),
+            "{e}"
+        );
+        // Old files without a tag are V2000.
+        let old = "x\n\n\n  1  0\n    0.0000    0.0000    0.0000 C   0  0\nM  END\n";
+        assert_eq!(parse(old).expect("untagged").structure.atoms.len(), 1);
+    }
 
     #[test]
     fn shared_sdf_files_load() {
