@@ -140,9 +140,15 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
         ));
     }
     warnings.extend(lookup.warnings(path_label));
+    // A record of several is named with its number, in every message and
+    // report that names the molecule.
+    let name = match records.len() {
+        1 => file_name(Path::new(path_label)),
+        _ => format!("{} record {wanted}", file_name(Path::new(path_label))),
+    };
     Ok(Loaded {
         structure: Structure {
-            name: file_name(Path::new(path_label)),
+            name,
             atoms,
             positions,
             hydrogen_only: Vec::new(),
@@ -630,7 +636,8 @@ $$$$
         assert_eq!(names, vec!["N1", "Cl3"]);
         assert_eq!(second.structure.atoms[1].serial, 3);
         assert_eq!(second.structure.atoms[1].residue, "second m");
-        assert_eq!(second.structure.name, "t.sdf");
+        assert_eq!(second.structure.name, "t.sdf record 2");
+        assert_eq!(first.structure.name, "t.sdf record 1");
         assert_eq!(second.structure.positions[1], DVec3::new(7.0, 0.0, 0.0));
         match parse_sdf(TWO_RECORDS, "t.sdf", &opts(Hydrogens::Drop, Some(3))) {
             Err(LoadError::Parse { reason, .. }) => {
