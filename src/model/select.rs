@@ -18,7 +18,7 @@
 //! The receptor is every other atom except waters. Errors name the file and
 //! list the hetero residues that are present, so the user can name one.
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt;
 use std::str::FromStr;
 
@@ -146,6 +146,7 @@ impl fmt::Display for LigandSpec {
 }
 
 /// One residue copy: its identity and the indices of its atoms.
+#[derive(Clone)]
 struct Group<'a> {
     chain: &'a str,
     seq: i64,
@@ -209,49 +210,55 @@ fn residue_groups(s: &Structure) -> Vec<Group<'_>> {
     groups
 }
 
-/// Every non-water residue's (chain, sequence number), and whether one of
-/// the residues there is a polymer (non-hetero) one.
-type Numbering<'a> = HashMap<(&'a str, i64), bool>;
+/// The places (chain, sequence number) that lie within a polymer chain:
+/// on each side, the numbers next to it in its chain, one after another,
+/// reach a polymer (non-hetero) residue before a gap in the numbering.
+/// Waters are left out. One pass each way over the sorted numbers, so a
+/// chain of thousands of hetero residues (a membrane's lipids) costs no
+/// more than a protein.
+type WithinPolymer<'a> = HashSet<(&'a str, i64)>;
 
-/// [`Numbering`] of `groups`.
-fn numbering<'a>(groups: &[Group<'a>]) -> Numbering<'a> {
-    let mut out = Numbering::new();
+/// [`WithinPolymer`] of `groups`.
+fn within_polymer<'a>(groups: &[Group<'a>]) -> WithinPolymer<'a> {
+    // Each number used, and whether a polymer residue has it, in order.
+    let mut numbers: BTreeMap<(&str, i64), bool> = BTreeMap::new();
     for g in groups.iter().filter(|g| !is_water(g.name)) {
-        *out.entry((g.chain, g.seq)).or_default() |= !g.hetero;
+        *numbers.entry((g.chain, g.seq)).or_default() |= !g.hetero;
     }
-    out
-}
-
-/// True when `g` lies within a polymer chain: on each side, the residues
-/// numbered next to it in its chain, one after another, reach a polymer
-/// residue before a gap in the numbering.
-fn within_polymer(g: &Group<'_>, numbering: &Numbering<'_>) -> bool {
-    let reaches = |step: i64| {
-        let mut k = g.seq;
-        loop {
-            k = k.saturating_add(step);
-            match numbering.get(&(g.chain, k)) {
-                Some(true) => return true,
-                Some(false) => continue,
-                None => return false,
-            }
-        }
+    let places: Vec<((&str, i64), bool)> = numbers.into_iter().collect();
+    let n = places.len();
+    // Places `a` and `b` are consecutive numbers of one chain.
+    let next = |a: usize, b: usize| {
+        let ((ca, sa), (cb, sb)) = (places[a].0, places[b].0);
+        ca == cb && sa.checked_add(1) == Some(sb)
     };
-    reaches(-1) && reaches(1)
+    // Walking down (up) from each place reaches a polymer residue.
+    let mut below = vec![false; n];
+    for i in 1..n {
+        below[i] = next(i - 1, i) && (places[i - 1].1 || below[i - 1]);
+    }
+    let mut above = vec![false; n];
+    for i in (0..n.saturating_sub(1)).rev() {
+        above[i] = next(i, i + 1) && (places[i + 1].1 || above[i + 1]);
+    }
+    (0..n)
+        .filter(|&i| below[i] && above[i])
+        .map(|i| places[i].0)
+        .collect()
 }
 
 /// Why `auto` passes over a hetero residue, or `None` when it is a candidate.
 /// A hetero residue [`within_polymer`] is a modified residue of the polymer
 /// (a tRNA's modified nucleotides, a modified amino acid not in
 /// [`AUTO_SKIPPED`]).
-fn auto_skip_reason(g: &Group<'_>, numbering: &Numbering<'_>) -> Option<&'static str> {
+fn auto_skip_reason(g: &Group<'_>, within: &WithinPolymer<'_>) -> Option<&'static str> {
     if is_water(g.name) {
         Some("water")
     } else if g.atoms.len() == 1 {
         Some("single atom")
     } else if AUTO_SKIPPED.contains(&g.name.to_ascii_uppercase().as_str()) {
         Some("ion, additive or modified amino acid")
-    } else if within_polymer(g, numbering) {
+    } else if within.contains(&(g.chain, g.seq)) {
         Some("modified residue within a polymer chain")
     } else {
         None
@@ -300,10 +307,10 @@ fn pick(s: &Structure, groups: &[Group<'_>], spec: &LigandSpec) -> Result<usize,
     };
     match spec {
         LigandSpec::Auto => {
-            let numbering = numbering(groups);
+            let within = within_polymer(groups);
             let mut best: Option<usize> = None;
             for (i, g) in groups.iter().enumerate() {
-                if !g.hetero || auto_skip_reason(g, &numbering).is_some() {
+                if !g.hetero || auto_skip_reason(g, &within).is_some() {
                     continue;
                 }
                 if best.is_none_or(|b| g.atoms.len() > groups[b].atoms.len()) {
@@ -314,7 +321,7 @@ fn pick(s: &Structure, groups: &[Group<'_>], spec: &LigandSpec) -> Result<usize,
                 // Names by reason, each in first-seen order: `MG, MN (single atom)`.
                 let mut by_reason: Vec<(&str, Vec<&str>)> = Vec::new();
                 for g in groups.iter().filter(|g| g.hetero && !is_water(g.name)) {
-                    let Some(r) = auto_skip_reason(g, &numbering) else {
+                    let Some(r) = auto_skip_reason(g, &within) else {
                         continue;
                     };
                     match by_reason.iter_mut().find(|(q, _)| *q == r) {
@@ -688,24 +695,60 @@ mod tests {
         // Named, one is still taken.
         let (_, yyg) = split_complex(&s, &spec("YYG")).unwrap();
         assert!(yyg.len() > 20);
-        // A hetero residue numbered past the chain's end (a ligand) is not
-        // within it; the rule needs a polymer residue on both sides.
-        let groups = residue_groups(&s);
-        let numbering = numbering(&groups);
+        // A hetero residue numbered right after the chain's last residue (a
+        // ligand) is not within it: the rule needs a polymer residue on
+        // both sides.
+        let mut groups = residue_groups(&s);
         let last = groups
             .iter()
             .filter(|g| !g.hetero && g.chain == "A")
             .map(|g| g.seq)
-            .max();
+            .max()
+            .unwrap();
         let ligand = Group {
             chain: "A",
-            seq: last.unwrap() + 1,
+            seq: last + 1,
             insertion: "",
             name: "LIG",
             hetero: true,
             atoms: vec![0, 1],
         };
-        assert_eq!(auto_skip_reason(&ligand, &numbering), None);
+        groups.push(ligand.clone());
+        let within = within_polymer(&groups);
+        assert_eq!(auto_skip_reason(&ligand, &within), None);
+        let yyg = groups.iter().find(|g| g.name == "YYG").unwrap();
+        assert!(within.contains(&(yyg.chain, yyg.seq)));
+        // ... and numbered as the chain's next residue, the same ligand is.
+        groups.push(Group {
+            seq: last + 2,
+            name: "ALA",
+            hetero: false,
+            ..ligand.clone()
+        });
+        assert!(within_polymer(&groups).contains(&("A", last + 1)));
+    }
+
+    /// A chain of hetero residues alone (no polymer in it) has none within
+    /// a polymer, at either end of the numbers `i64` holds.
+    #[test]
+    fn hetero_chains_are_not_within_a_polymer() {
+        let group = |seq: i64, hetero: bool| Group {
+            chain: "A",
+            seq,
+            insertion: "",
+            name: if hetero { "LIG" } else { "ALA" },
+            hetero,
+            atoms: vec![0, 1],
+        };
+        let run: Vec<Group<'_>> = (0..5)
+            .map(|k| group(i64::MAX - k, true))
+            .chain((0..5).map(|k| group(i64::MIN + k, true)))
+            .collect();
+        assert!(within_polymer(&run).is_empty());
+        // Polymer at both ends: everything between is within.
+        let mut run: Vec<Group<'_>> = (1..=20).map(|k| group(k, true)).collect();
+        run.extend([group(0, false), group(21, false)]);
+        assert_eq!(within_polymer(&run).len(), 20);
     }
 
     #[test]
