@@ -461,7 +461,7 @@ fn a_colliding_start_allows_only_motions_that_do_not_deepen() {
 fn pushes_from_a_colliding_start_never_sink_the_drug() {
     let rule = ContactRule::default();
     let mut rng = Rng(41);
-    let mut sunk = 0;
+    let mut checked = 0;
     for round in 0..40 {
         let receptor = random_molecule(&mut rng, 200, 20.0, DVec3::ZERO, true);
         let drug = random_molecule(&mut rng, 8, 5.0, DVec3::ZERO, true);
@@ -492,13 +492,13 @@ fn pushes_from_a_colliding_start_never_sink_the_drug() {
                         r.t
                     );
                 }
-                sunk += usize::from(r.start_collides());
+                checked += usize::from(r.start_collides());
             }
             pose = r.pose;
         }
     }
     // Many stops from a colliding start were checked.
-    assert!(sunk > 100, "{sunk}");
+    assert!(checked > 100, "{checked}");
 }
 
 #[test]
