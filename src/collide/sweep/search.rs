@@ -52,6 +52,10 @@ fn pairs_among(
     // An unturned drug (the usual pose) is placed without a rotation
     // matrix: the identity's products are exact, so the positions are the
     // same.
+    // Open space, the usual joystick step: nothing to place or sort.
+    if cands.is_empty() {
+        return (Vec::new(), Vec::new());
+    }
     let m = (pose.rotation != DQuat::IDENTITY).then(|| DMat3::from_quat(pose.rotation));
     found.clear();
     let mut placed: Option<(u32, Vec3)> = None;
@@ -361,11 +365,14 @@ fn swept_with<const TRANSLATION: bool>(
                         p[2].to_array(),
                         d.to_array(),
                     );
-                    for l in 0..count {
+                    // The atoms left, in order (usually one or two of four).
+                    let mut left = ((1u32 << count) - 1) & !proved;
+                    while left != 0 {
+                        let l = left.trailing_zeros() as usize;
+                        left &= left - 1;
                         let (i, xm32) = (first_atom + l, Vec3::new(px[l], py[l], pz[l]));
-                        if proved & (1 << l) != 0
-                            || (open & (1 << l) != 0
-                                && clearance.is_some_and(|map| map.clear_corners(xm32, d[l])))
+                        if open & (1 << l) != 0
+                            && clearance.is_some_and(|map| map.clear_corners(xm32, d[l]))
                         {
                             continue;
                         }
