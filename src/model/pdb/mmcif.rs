@@ -196,6 +196,28 @@ pub(super) fn diagnose_atom_site(cut: &str, from: &[usize]) -> Option<(usize, St
     None
 }
 
+/// The original line of atom `serial`'s row in a cut-out `_atom_site` loop
+/// ([`mmcif_atom_site_only`], `from` its lines' original lines), for rows
+/// one per line; `None` when no such row is found.
+pub(super) fn atom_site_line(cut: &str, from: &[usize], serial: usize) -> Option<usize> {
+    let mut columns = 0;
+    let mut id = None;
+    for (k, line) in cut.lines().enumerate().skip(2) {
+        if let Some(name) = line.strip_prefix("_atom_site.") {
+            if name.trim().eq_ignore_ascii_case("id") {
+                id = Some(columns);
+            }
+            columns += 1;
+            continue;
+        }
+        let values = cif_values(line);
+        if values.len() == columns && values.get(id?)?.parse() == Ok(serial) {
+            return from.get(k).copied();
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -213,6 +235,20 @@ mod tests {
         // The original line of each line of the cut-out.
         assert_eq!(from, [1, 7, 8, 9, 10, 11]);
         assert!(mmcif_atom_site_only("data_X\nloop_\n_cell.a\n1\n").is_none());
+    }
+
+    #[test]
+    fn an_atoms_row_is_found_by_its_id() {
+        let text = "data_X\n#\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.x\n\
+                    ATOM 1 2.0\nATOM 12 '3.0'\nATOM 2 a b\n#\n";
+        let (cut, from) = mmcif_atom_site_only(text).unwrap();
+        assert_eq!(atom_site_line(&cut, &from, 12), Some(8));
+        // A row's value count must match the columns, as `pdbtbx` reads it.
+        assert_eq!(atom_site_line(&cut, &from, 2), None);
+        assert_eq!(atom_site_line(&cut, &from, 3), None);
+        let no_id = "data_X\nloop_\n_atom_site.group_PDB\n_atom_site.x\nATOM 1\n";
+        let (cut, from) = mmcif_atom_site_only(no_id).unwrap();
+        assert_eq!(atom_site_line(&cut, &from, 1), None);
     }
 
     #[test]

@@ -55,7 +55,7 @@ use alternates::{Site, order_by_serial, resolve_alternates};
 use findings::{fatal_error, parser_warning_lines};
 use guess::guess_from_name;
 pub use guess::guess_pdb_element;
-use mmcif::{diagnose_atom_site, mmcif_atom_site_only, unknown_elements_cif};
+use mmcif::{atom_site_line, diagnose_atom_site, mmcif_atom_site_only, unknown_elements_cif};
 use records::{normalise_pdb, unknown_elements_pdb};
 
 /// Reads a PDB or mmCIF file, plain or gzipped, keeping the first model.
@@ -206,7 +206,21 @@ fn parse_text(
     let (pdb, parser_warnings) = read_pdbtbx(text, input, format, label, cut_from.as_deref())?;
     let mut warnings = parser_warning_lines(label, &parser_warnings);
     let mut lookup = RadiusLookup::new(opts.radii);
-    let structure = first_model(&pdb, &unknown_elements, &mut lookup, label, name, opts)?;
+    // A PDB file's coordinates were checked record by record (the
+    // normalisation); an mmCIF atom is found by its id in the cut-out rows.
+    let row_line = |serial: usize| {
+        cut_from
+            .as_deref()
+            .and_then(|from| atom_site_line(input, from, serial))
+    };
+    let structure = first_model(
+        &pdb,
+        &unknown_elements,
+        &mut lookup,
+        (label, name),
+        opts,
+        &row_line,
+    )?;
     warnings.extend(lookup.warnings(label));
     Ok(Loaded {
         structure,
@@ -305,18 +319,20 @@ fn read_pdbtbx(
 /// The atoms of `pdb`'s first model that bump keeps: one per site where
 /// there are alternate locations, in serial order, hydrogens dropped or
 /// kept as `opts` says, each with its element (`unknown_elements`: serial →
-/// an element field naming no element) and radius (`lookup`).
+/// an element field naming no element) and radius (`lookup`). `label` names
+/// the file in messages, `name` the structure.
 ///
 /// # Errors
 /// [`LoadError::Parse`] for a coordinate that is not finite or lies beyond
-/// [`MAX_FILE_COORDINATE`]; [`LoadError::NoAtoms`] when no atom is kept.
+/// [`MAX_FILE_COORDINATE`], at the line `row_line` gives the atom's serial;
+/// [`LoadError::NoAtoms`] when no atom is kept.
 fn first_model(
     pdb: &PDB,
     unknown_elements: &HashMap<usize, String>,
     lookup: &mut RadiusLookup,
-    label: &str,
-    name: &str,
+    (label, name): (&str, &str),
     opts: &LoadOptions,
+    row_line: &dyn Fn(usize) -> Option<usize>,
 ) -> Result<Structure, LoadError> {
     let mut atoms = Vec::new();
     let mut positions = Vec::new();
@@ -393,7 +409,7 @@ fn first_model(
             let (x, y, z) = (shown(x), shown(y), shown(z));
             return Err(LoadError::Parse {
                 path: label.to_string(),
-                line: None,
+                line: row_line(atom.serial_number()),
                 reason: format!(
                     "atom {} ({}) is at ({x}, {y}, {z}), not within ±{MAX_FILE_COORDINATE:e} Å",
                     atom.serial_number(),

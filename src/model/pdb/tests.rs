@@ -569,6 +569,17 @@ fn mmcif_row_errors_name_the_files_line() {
     ]));
     assert_eq!(line, Some(21), "{reason}");
     assert_eq!(reason, "Cartn_x of atom 2 is not a number: \"abc\"");
+    // A number out of range, on the third row: that row's line (22).
+    let (line, reason) = mmcif_error(&mmcif_with_rows(&[
+        good,
+        "ATOM 2 C CA . ALA A 1 1 ? 2.0 3.0 4.0 1.0",
+        "ATOM 3 C C . ALA A 1 1 ? 2.0 -1e300 4.0 1.0",
+    ]));
+    assert_eq!(line, Some(22), "{reason}");
+    assert!(
+        reason.contains("atom 3 (C) is at (2, -1.000e300, 4), not within"),
+        "{reason}"
+    );
 }
 
 #[test]
