@@ -521,3 +521,54 @@ fn extreme_steps_and_turns() {
         assert!(e_gap(&s) > 0.0, "turn {k}: overlap");
     }
 }
+
+/// A pair's reported distance and contact distance say what the rule says,
+/// to the last bit: `distance ≤ contact` exactly when the static check
+/// lists the pair (the rule compares squares, d² ≤ c², and √d² rounded to
+/// f32 can land on `c` from a d² one unit above c², so a pair within
+/// tolerance once read as colliding where the check found it clear), and
+/// a zero-length move-to-touch reports no collision where the check finds
+/// none. Poses a few units in the last place either side of contact, in
+/// many directions, for a C–C pair and an N–O pair.
+#[test]
+fn reported_distances_agree_with_the_rule_to_the_last_bit() {
+    let rule = ContactRule::default();
+    let mut rng = Rng(0x5eed);
+    let mut straddled = 0;
+    for (a, b) in [(("C", 1.7), ("C", 1.7)), (("N", 1.55), ("O", 1.52))] {
+        let receptor = Molecule::new("one", vec![atom(1, a.0, a.1)], &[DVec3::ZERO]);
+        let drug = Molecule::new("other", vec![atom(1, b.0, b.1)], &[DVec3::ZERO]);
+        let c = rule.contact_distance(a.1, a.0 != "C", b.1, b.0 != "C");
+        let cc = c * c;
+        for col in all_colliders(&receptor, &rule) {
+            let atoms = DrugAtoms::new(&drug, &rule, col.max_radius());
+            for _ in 0..2_000 {
+                let dir = rng.unit();
+                for k in -6..=6 {
+                    let d = f64::from(c) * (1.0 + f64::from(k) * 1e-7);
+                    let pose = Pose::from_translation(dir * d);
+                    let x = pose.translation.as_vec3();
+                    let d2 = x.length_squared();
+                    if d2 > cc && d2.sqrt() <= c {
+                        straddled += 1;
+                    }
+                    let clashes = bump::collide::check(&col, &atoms, &pose);
+                    let near = bump::collide::pairs_within(&col, &atoms, &pose, 0.1);
+                    assert_eq!(near.len(), 1, "{pose:?}");
+                    assert_eq!(
+                        near[0].collides(),
+                        !clashes.is_empty(),
+                        "{:?} {pose:?}",
+                        near[0]
+                    );
+                    assert_eq!(near[0].gap() <= 0.0, !clashes.is_empty());
+                    let r = move_to_touch(&col, &atoms, &pose, &pose, &TouchOptions::default());
+                    assert_eq!(r.colliding, clashes, "{pose:?}");
+                    assert_eq!(r.start_colliding, clashes, "{pose:?}");
+                }
+            }
+        }
+    }
+    // The poses reach the one-unit window this test is about.
+    assert!(straddled > 100, "{straddled}");
+}

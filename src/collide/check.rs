@@ -17,6 +17,7 @@ use wide::f32x4;
 use super::clearance::{Clearance, Nearest4};
 use super::collider::{Collider, unpack_meta};
 use super::drug::{DrugAtoms, Turn4};
+use super::rule::{reported_distance, within};
 use crate::motion::Pose;
 
 /// A receptor–drug atom pair near or in contact.
@@ -140,12 +141,11 @@ fn visit_group<F: FnMut(Pair) -> bool>(
             }
             let (j, polar) = unpack_meta(meta);
             let c = drug.contact(i, a.w, polar);
-            let lim = c + extra;
-            if lim >= 0.0 && d2 <= lim * lim {
+            if within(d2, c + extra) {
                 go_on = f(Pair {
                     receptor: j,
                     drug: i as u32,
-                    distance: d2.sqrt(),
+                    distance: reported_distance(d2, c),
                     contact: c,
                 });
             }

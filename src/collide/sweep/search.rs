@@ -12,6 +12,7 @@ use crate::collide::check::{Pair, check, pairs_within};
 use crate::collide::clearance::Nearest4;
 use crate::collide::collider::{Collider, unpack_meta};
 use crate::collide::drug::{Balls4, DrugAtoms, Lanes3, Turn4};
+use crate::collide::rule::{reported_distance, within};
 use crate::motion::{Pose, Screw};
 
 /// Longest path, in Å, of any atom in one base interval of the swept
@@ -73,15 +74,14 @@ fn pairs_among(
             }
         };
         let d2 = (k.q - x).length_squared();
-        let lim = k.contact + extra;
-        if lim >= 0.0 && d2 <= lim * lim {
+        if within(d2, k.contact + extra) {
             let pair = Pair {
                 receptor: k.receptor,
                 drug: k.drug,
-                distance: d2.sqrt(),
+                distance: reported_distance(d2, k.contact),
                 contact: k.contact,
             };
-            found.push((pair, k.contact >= 0.0 && d2 <= k.contact * k.contact));
+            found.push((pair, within(d2, k.contact)));
         }
     }
     found.sort_unstable_by_key(|(p, _)| (p.receptor, p.drug));
