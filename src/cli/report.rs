@@ -44,6 +44,7 @@ pub fn pair_report(
 ) -> PairReport {
     let a = &receptor.atoms[p.receptor as usize];
     let b = &drug.atoms[p.drug as usize];
+    let allowance = rule.allowance(a.polar, b.polar);
     PairReport {
         receptor_serial: a.serial,
         receptor_name: a.name.clone(),
@@ -62,9 +63,23 @@ pub fn pair_report(
         drug_element: b.element.clone(),
         drug_radius: b.radius,
         distance: p.distance,
-        overlap: a.radius + b.radius - p.distance,
-        allowance: rule.allowance(a.polar, b.polar),
+        overlap: overlap(a.radius, b.radius, p, allowance),
+        allowance,
         gap: p.gap(),
+    }
+}
+
+/// `r_a + r_b − d` for pair `p`, on the side of `allowance` the rule puts
+/// the pair: in f32 the difference can fall a unit short of the allowance
+/// for a pair that collides (`d` equal to the contact distance, itself
+/// rounded), or reach it for one that does not, and a reader who applies
+/// the rule to the printed numbers would then disagree with the verdict.
+fn overlap(r_a: f32, r_b: f32, p: &Pair, allowance: f32) -> f32 {
+    let raw = r_a + r_b - p.distance;
+    if p.collides() {
+        raw.max(allowance)
+    } else {
+        raw.min(allowance.next_down())
     }
 }
 
@@ -197,5 +212,32 @@ mod tests {
         assert_eq!(fraction(0.999_999_758), "0.999999758");
         assert_eq!(fraction(1.0 - 1e-16), "0.99999999999999989");
         assert_eq!(fraction(0.999_999_4), "0.999999");
+    }
+
+    #[test]
+    fn overlaps_say_what_the_rule_says() {
+        let rule = ContactRule::default();
+        let (r, allowance) = (1.7f32, rule.allowance(false, false));
+        let c = rule.contact_distance(r, false, r, false);
+        // At contact (2.8000002 Å) the plain difference is 0.5999999.
+        assert!(r + r - c < allowance);
+        let pair = |distance: f32| Pair {
+            receptor: 0,
+            drug: 0,
+            distance,
+            contact: c,
+        };
+        let mut d = c.next_down().next_down();
+        for _ in 0..5 {
+            let p = pair(d);
+            let o = overlap(r, r, &p, allowance);
+            assert_eq!(o >= allowance, p.collides(), "d {d} overlap {o}");
+            // Moved by a unit at most.
+            assert!((o - (r + r - d)).abs() <= 2.0 * f32::EPSILON, "{o}");
+            d = d.next_up();
+        }
+        // Far from contact: the plain difference.
+        assert_eq!(overlap(r, r, &pair(2.0), allowance), r + r - 2.0);
+        assert_eq!(overlap(r, r, &pair(3.5), allowance), r + r - 3.5);
     }
 }
