@@ -50,13 +50,13 @@ fn pairs_among(
     extra: f32,
     found: &mut Vec<(Pair, bool)>,
 ) -> (Vec<Pair>, Vec<Pair>) {
-    // An unturned drug (the usual pose) is placed without a rotation
-    // matrix: the identity's products are exact, so the positions are the
-    // same.
     // Open space, the usual joystick step: nothing to place or sort.
     if cands.is_empty() {
         return (Vec::new(), Vec::new());
     }
+    // An unturned drug (the usual pose) is placed without a rotation
+    // matrix: the identity's products are exact, so the positions are the
+    // same.
     let m = (pose.rotation != DQuat::IDENTITY).then(|| DMat3::from_quat(pose.rotation));
     found.clear();
     let mut placed: Option<(u32, Vec3)> = None;
@@ -365,14 +365,11 @@ fn swept_with<const TRANSLATION: bool>(
                         p[2].to_array(),
                         d.to_array(),
                     );
-                    // The atoms left, in order (usually one or two of four).
-                    let mut left = ((1u32 << count) - 1) & !proved;
-                    while left != 0 {
-                        let l = left.trailing_zeros() as usize;
-                        left &= left - 1;
+                    for l in 0..count {
                         let (i, xm32) = (first_atom + l, Vec3::new(px[l], py[l], pz[l]));
-                        if open & (1 << l) != 0
-                            && clearance.is_some_and(|map| map.clear_corners(xm32, d[l]))
+                        if proved & (1 << l) != 0
+                            || (open & (1 << l) != 0
+                                && clearance.is_some_and(|map| map.clear_corners(xm32, d[l])))
                         {
                             continue;
                         }
