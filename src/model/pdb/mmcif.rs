@@ -36,8 +36,11 @@ pub(super) fn mmcif_atom_site_only(text: &str) -> Option<(String, Vec<usize>)> {
             continue;
         }
         if header {
-            if lower_start("_atom_site.") {
-                out.push_str(line);
+            if let Some(name) = column_name(line) {
+                // CIF tags are case-insensitive; `pdbtbx` reads them as
+                // the dictionary spells them.
+                out.push_str("_atom_site.");
+                out.push_str(canonical_column(name));
                 out.push('\n');
                 from.push(at + 1);
                 continue;
@@ -75,6 +78,65 @@ pub(super) fn mmcif_atom_site_only(text: &str) -> Option<(String, Vec<usize>)> {
     } else {
         Some((out, from))
     }
+}
+
+/// The column name of an `_atom_site` tag line (the tag's case aside), or
+/// `None` for any other line.
+fn column_name(line: &str) -> Option<&str> {
+    const PREFIX: &str = "_atom_site.";
+    let head = line.get(..PREFIX.len())?;
+    head.eq_ignore_ascii_case(PREFIX)
+        .then(|| line[PREFIX.len()..].trim())
+}
+
+/// The `_atom_site` items `pdbtbx` reads, spelled as the mmCIF dictionary
+/// does (it matches them case by case).
+const PDBTBX_COLUMNS: [&str; 18] = [
+    "group_PDB",
+    "id",
+    "type_symbol",
+    "label_atom_id",
+    "label_alt_id",
+    "label_comp_id",
+    "label_asym_id",
+    "label_seq_id",
+    "pdbx_PDB_ins_code",
+    "Cartn_x",
+    "Cartn_y",
+    "Cartn_z",
+    "occupancy",
+    "B_iso_or_equiv",
+    "pdbx_formal_charge",
+    "auth_seq_id",
+    "auth_asym_id",
+    "pdbx_PDB_model_num",
+];
+
+/// `name` as the dictionary spells it, when it is an item `pdbtbx` reads.
+fn canonical_column(name: &str) -> &str {
+    PDBTBX_COLUMNS
+        .into_iter()
+        .find(|c| c.eq_ignore_ascii_case(name))
+        .unwrap_or(name)
+}
+
+/// A cut-out `_atom_site` loop ([`mmcif_atom_site_only`]: `data_`, `loop_`,
+/// the column names, then the rows) as a table: its column names, and its
+/// rows as they are read, each line's index in the cut-out with its values
+/// (rows one per line, as every mmCIF writer puts them).
+fn atom_site_table(cut: &str) -> (Vec<&str>, impl Iterator<Item = (usize, Vec<&str>)>) {
+    let mut lines = cut.lines().enumerate().skip(2).peekable();
+    let mut columns = Vec::new();
+    while let Some(name) = lines.peek().and_then(|(_, l)| column_name(l)) {
+        columns.push(name);
+        lines.next();
+    }
+    (columns, lines.map(|(k, line)| (k, cif_values(line))))
+}
+
+/// The index of column `name` (case aside) among `columns`.
+fn column(columns: &[&str], name: &str) -> Option<usize> {
+    columns.iter().position(|c| c.eq_ignore_ascii_case(name))
 }
 
 /// The values of one line of CIF data: whitespace-separated, a value that
@@ -117,22 +179,11 @@ pub(super) fn cif_values(line: &str) -> Vec<&str> {
 /// one per line.
 pub(super) fn unknown_elements_cif(cut: &str) -> HashMap<usize, String> {
     let mut out = HashMap::new();
-    // The cut-out is `data_`, `loop_`, the column names, then the rows.
-    let mut lines = cut.lines().skip(2).peekable();
-    let mut columns: Vec<&str> = Vec::new();
-    while let Some(name) = lines.peek().and_then(|l| l.strip_prefix("_atom_site.")) {
-        columns.push(name.trim());
-        lines.next();
-    }
-    let column = |name: &str| columns.iter().position(|c| c.eq_ignore_ascii_case(name));
-    let (Some(t), Some(i)) = (column("type_symbol"), column("id")) else {
+    let (columns, rows) = atom_site_table(cut);
+    let (Some(t), Some(i)) = (column(&columns, "type_symbol"), column(&columns, "id")) else {
         return out;
     };
-    for line in lines {
-        let values = cif_values(line);
-        if values.len() != columns.len() {
-            continue;
-        }
+    for (_, values) in rows.filter(|(_, v)| v.len() == columns.len()) {
         let symbol = values[t].trim_matches(['\'', '"']);
         if !matches!(symbol, "" | "." | "?")
             && pdbtbx::Element::from_symbol(symbol).is_none()
@@ -149,19 +200,11 @@ pub(super) fn unknown_elements_cif(cut: &str) -> HashMap<usize, String> {
 /// number of values (when rows are one per line, as every mmCIF writer puts
 /// them), or a coordinate that is not a number. `None` when neither is found.
 pub(super) fn diagnose_atom_site(cut: &str, from: &[usize]) -> Option<(usize, String)> {
-    let mut columns: Vec<&str> = Vec::new();
-    let mut rows: Vec<(usize, Vec<&str>)> = Vec::new();
-    for (k, line) in cut.lines().enumerate().skip(2) {
-        let at = from.get(k).copied().unwrap_or(0);
-        if let Some(name) = line.strip_prefix("_atom_site.") {
-            columns.push(name.trim());
-        } else {
-            let values = cif_values(line);
-            if !values.is_empty() {
-                rows.push((at, values));
-            }
-        }
-    }
+    let (columns, rows) = atom_site_table(cut);
+    let rows: Vec<(usize, Vec<&str>)> = rows
+        .filter(|(_, v)| !v.is_empty())
+        .map(|(k, v)| (from.get(k).copied().unwrap_or(0), v))
+        .collect();
     let n = columns.len();
     let full = rows.iter().filter(|(_, v)| v.len() == n).count();
     if n > 0
@@ -176,10 +219,9 @@ pub(super) fn diagnose_atom_site(cut: &str, from: &[usize]) -> Option<(usize, St
             ),
         ));
     }
-    let column = |name: &str| columns.iter().position(|c| c.eq_ignore_ascii_case(name));
-    let id = column("id");
+    let id = column(&columns, "id");
     for axis in ["Cartn_x", "Cartn_y", "Cartn_z"] {
-        let Some(c) = column(axis) else {
+        let Some(c) = column(&columns, axis) else {
             return Some((
                 from.get(1).copied().unwrap_or(0),
                 format!("the _atom_site loop has no {axis} column"),
@@ -200,22 +242,10 @@ pub(super) fn diagnose_atom_site(cut: &str, from: &[usize]) -> Option<(usize, St
 /// ([`mmcif_atom_site_only`], `from` its lines' original lines), for rows
 /// one per line; `None` when no such row is found.
 pub(super) fn atom_site_line(cut: &str, from: &[usize], serial: usize) -> Option<usize> {
-    let mut columns = 0;
-    let mut id = None;
-    for (k, line) in cut.lines().enumerate().skip(2) {
-        if let Some(name) = line.strip_prefix("_atom_site.") {
-            if name.trim().eq_ignore_ascii_case("id") {
-                id = Some(columns);
-            }
-            columns += 1;
-            continue;
-        }
-        let values = cif_values(line);
-        if values.len() == columns && values.get(id?)?.parse() == Ok(serial) {
-            return from.get(k).copied();
-        }
-    }
-    None
+    let (columns, mut rows) = atom_site_table(cut);
+    let id = column(&columns, "id")?;
+    let (k, _) = rows.find(|(_, v)| v.len() == columns.len() && v[id].parse() == Ok(serial))?;
+    from.get(k).copied()
 }
 
 #[cfg(test)]

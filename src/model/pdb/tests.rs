@@ -549,6 +549,31 @@ fn mmcif_error(text: &str) -> (Option<usize>, String) {
 }
 
 #[test]
+fn mmcif_tags_are_read_whatever_their_case() {
+    // CIF tags are case-insensitive: `pdbtbx` found no atoms in this file.
+    let upper = mmcif_with_rows(&[
+        "HETATM 1 C C1 . LIG A 1 1 ? 0.0 0.0 0.0 1.0",
+        "HETATM 2 QQ CL . LIG A 1 1 ? 1.5 0.0 0.0 1.0",
+        "HETATM 3 C C2 . LIG A 1 1 ? 1e300 0.0 0.0 1.0",
+    ])
+    .replace("_atom_site.Cartn", "_ATOM_SITE.CARTN")
+    .replace("_atom_site.", "_Atom_Site.")
+    .replace("_Atom_Site.type_symbol", "_ATOM_SITE.TYPE_SYMBOL");
+    assert!(!upper.contains("_atom_site."));
+    // The out-of-range coordinate is found by its line (22) through the
+    // same tags.
+    let (line, reason) = mmcif_error(&upper);
+    assert_eq!(line, Some(22), "{reason}");
+    let last_row = upper.rfind("HETATM 3").unwrap();
+    let l = parse_cif_text(&upper[..last_row]).expect("loads");
+    let a = &l.structure.atoms;
+    assert_eq!(a.len(), 2);
+    assert_eq!((a[0].element.as_str(), a[1].element.as_str()), ("C", "Qq"));
+    assert_eq!(a[1].radius, UNKNOWN_RADIUS);
+    assert!((l.structure.positions[1].x - 1.5).abs() < 1e-12);
+}
+
+#[test]
 fn mmcif_row_errors_name_the_files_line() {
     let good = "ATOM 1 N N . ALA A 1 1 ? 1.0 2.0 3.0 1.0";
     assert!(parse_cif_text(&mmcif_with_rows(&[good])).is_ok());
