@@ -8,10 +8,12 @@
 //!   contact pairs at its stop, which is all move-to-touch answers); and the same steps
 //!   with a 10° turn about the drug's centre (a screw motion) for the grid
 //!   colliders and parry3d's `cast_shapes_nonlinear`.
-//! - `scaling/*`: a 30-atom drug (the receptor's outermost atom and the next
-//!   29, pushed out until free) against receptors from 1.3k to 272k atoms:
-//!   the static check at the end pose and a 1.5 Å move-to-touch back towards
-//!   the surface, for each collider, the thesis method and parry3d (the cast
+//! - `scaling/*`: 30-atom drugs against receptors from 1.3k to 272k atoms:
+//!   16 patches of the receptor's surface (an outermost atom in each of 16
+//!   directions and its 29 nearest neighbours, pushed out until free; the
+//!   first, about the outermost atom of all, is `bump bench`'s), cycled: the
+//!   static check at the end pose and a 1.5 Å move-to-touch back towards the
+//!   surface, for each collider, the thesis method and parry3d (the cast
 //!   alone, and with contacts).
 //!
 //! parry3d models the rule as balls of radius `r − overlap/2`, which is the
@@ -40,6 +42,14 @@ use parry3d::query::{self, NonlinearRigidMotion};
 #[path = "../src/cli/bench/parry.rs"]
 mod parry;
 use parry::{Spheres, pose as ppose};
+// The scaling drugs: `bump bench` times the first of them.
+#[path = "../src/cli/bench/surface.rs"]
+#[allow(dead_code)] // `surface_drug`, the single patch, is `bump bench`'s.
+mod surface;
+use surface::{fibonacci, surface_drugs};
+
+/// Surface patches per receptor in the scaling group, timed in turn.
+const SURFACE_PATCHES: usize = 16;
 
 fn data_dir() -> Option<PathBuf> {
     let d = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb"));
@@ -56,18 +66,6 @@ fn data_dir() -> Option<PathBuf> {
 fn ready(col: Collider) -> Collider {
     col.wait_for_clearance();
     col
-}
-
-fn fibonacci(n: usize) -> Vec<DVec3> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let r = (1.0 - y * y).sqrt();
-            let phi = golden * i as f64;
-            DVec3::new(r * phi.cos(), y, r * phi.sin())
-        })
-        .collect()
 }
 
 /// Up to `n` move-to-touch queries: from collision-free starts (under
@@ -99,16 +97,15 @@ fn approach_queries(
 fn report_parry_agreement(
     label: &str,
     receptor: &Molecule,
-    drug: &Molecule,
     rule: &ContactRule,
-    queries: &[(Pose, Pose)],
-    (rec, dr): (&Spheres, &Spheres),
+    rec: &Spheres,
+    queries: &[(&Molecule, &Spheres, Pose, Pose)],
 ) {
     let col = Collider::build(receptor, rule, ColliderKind::Grid);
-    let atoms = DrugAtoms::new(drug, rule, col.max_radius());
     let opts = TouchOptions::default();
     let (mut agree, mut worst, mut zero, mut same) = (0, 0.0f64, 0, 0);
-    for (s, e) in queries {
+    for (drug, dr, s, e) in queries {
+        let atoms = DrugAtoms::new(drug, rule, col.max_radius());
         let ours = move_to_touch(&col, &atoms, s, e, &opts);
         let theirs = parry::cast(rec, dr, s, e);
         if theirs == 0.0 {
@@ -191,14 +188,8 @@ fn dhfr(c: &mut Criterion) {
         }
     }
     let (rec, dr) = (Spheres::new(&receptor, &rule), Spheres::new(&drug, &rule));
-    report_parry_agreement(
-        "dhfr_tmp",
-        &receptor,
-        &drug,
-        &parry_rule,
-        &queries,
-        (&rec, &dr),
-    );
+    let with_drug: Vec<_> = queries.iter().map(|(s, e)| (&drug, &dr, *s, *e)).collect();
+    report_parry_agreement("dhfr_tmp", &receptor, &parry_rule, &rec, &with_drug);
     for kind in [ColliderKind::Grid, ColliderKind::Hashed] {
         let col = ready(Collider::build(&receptor, &parry_rule, kind));
         let atoms = DrugAtoms::new(&drug, &parry_rule, col.max_radius());
@@ -311,34 +302,6 @@ fn touch_cycle(
     });
 }
 
-/// A 30-atom "drug" copied from the receptor's surface and pushed out along
-/// the radial direction until it is free: (drug, start pose, direction).
-fn surface_drug(receptor: &Molecule, rule: &ContactRule) -> (Molecule, Pose, DVec3) {
-    let far = receptor
-        .local
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.length().total_cmp(&b.1.length()))
-        .map(|(i, _)| i)
-        .unwrap_or(0);
-    let end = (far + 30).min(receptor.len());
-    let atoms = receptor.atoms[far..end].to_vec();
-    let pos: Vec<DVec3> = (far..end).map(|i| receptor.file_position(i)).collect();
-    let drug = Molecule::new("surface drug", atoms, &pos);
-    let dir = (drug.centre - receptor.centre).normalize_or(DVec3::X);
-    let col = Collider::build(receptor, rule, ColliderKind::Hashed);
-    let atoms = DrugAtoms::new(&drug, rule, col.max_radius());
-    let mut shift = 0.5;
-    let start = loop {
-        let p = Pose::from_translation(drug.centre - receptor.centre + dir * shift);
-        if check(&col, &atoms, &p).is_empty() || shift > 50.0 {
-            break p;
-        }
-        shift += 0.5;
-    };
-    (drug, start, dir)
-}
-
 fn scaling(c: &mut Criterion) {
     let Some(dir) = data_dir() else { return };
     let rule = ContactRule::default();
@@ -363,74 +326,123 @@ fn scaling(c: &mut Criterion) {
         let n = receptor.len();
         // Free under the stricter (parry-equivalent) rule, so both models start free.
         let strict = ContactRule::new(rule.overlap, 0.0).unwrap_or(rule);
-        let (drug, start, out) = surface_drug(&receptor, &strict);
-        let end = start.moved(-out * 1.5, DVec3::ZERO, 0.0);
+        let patches = surface_drugs(&receptor, &strict, 30, SURFACE_PATCHES);
+        if patches.is_empty() {
+            continue;
+        }
+        let steps: Vec<(Pose, Pose)> = patches.iter().map(|p| (p.start, p.step_in(1.5))).collect();
         let label = format!("{n}");
+        // Each sample cycles through the patches: its time is their mean.
+        let cycle = |b: &mut criterion::Bencher, f: &mut dyn FnMut(usize)| {
+            let mut k = 0;
+            b.iter(|| {
+                f(k % patches.len());
+                k += 1;
+            })
+        };
         for kind in ColliderKind::ALL {
             let col = ready(Collider::build(&receptor, &rule, kind));
-            let atoms = DrugAtoms::new(&drug, &rule, col.max_radius());
+            let atoms: Vec<DrugAtoms> = patches
+                .iter()
+                .map(|p| DrugAtoms::new(&p.drug, &rule, col.max_radius()))
+                .collect();
             g.bench_function(
                 BenchmarkId::new(format!("check-{}", kind.name()), &label),
-                |b| b.iter(|| black_box(check(&col, &atoms, black_box(&end)))),
-            );
-            let opts = TouchOptions::default();
-            g.bench_function(
-                BenchmarkId::new(format!("touch-{}", kind.name()), &label),
                 |b| {
-                    b.iter(|| {
-                        black_box(move_to_touch(&col, &atoms, &start, black_box(&end), &opts))
+                    cycle(b, &mut |k| {
+                        drop(black_box(check(&col, &atoms[k], black_box(&steps[k].1))))
                     })
                 },
             );
-            if kind == ColliderKind::Hashed {
-                let thesis = TouchOptions {
-                    method: Method::Thesis,
-                    ..opts
+            for (name, method) in [("touch", Method::Swept), ("touch-thesis", Method::Thesis)] {
+                if method == Method::Thesis && kind != ColliderKind::Hashed {
+                    continue;
+                }
+                let opts = TouchOptions {
+                    method,
+                    ..TouchOptions::default()
                 };
-                g.bench_function(BenchmarkId::new("touch-thesis-hashed", &label), |b| {
-                    b.iter(|| {
-                        black_box(move_to_touch(
-                            &col,
-                            &atoms,
-                            &start,
-                            black_box(&end),
-                            &thesis,
-                        ))
-                    })
-                });
+                g.bench_function(
+                    BenchmarkId::new(format!("{name}-{}", kind.name()), &label),
+                    |b| {
+                        cycle(b, &mut |k| {
+                            let (s, e) = &steps[k];
+                            drop(black_box(move_to_touch(
+                                &col,
+                                &atoms[k],
+                                s,
+                                black_box(e),
+                                &opts,
+                            )))
+                        })
+                    },
+                );
             }
         }
-        let (rec, dr) = (Spheres::new(&receptor, &rule), Spheres::new(&drug, &rule));
+        let rec = Spheres::new(&receptor, &rule);
+        let drugs: Vec<Spheres> = patches
+            .iter()
+            .map(|p| Spheres::new(&p.drug, &rule))
+            .collect();
         let parry_rule = ContactRule::new(rule.overlap, 0.0).unwrap_or(rule);
+        let queries: Vec<_> = patches
+            .iter()
+            .zip(&drugs)
+            .zip(&steps)
+            .map(|((p, dr), (s, e))| (&p.drug, dr, *s, *e))
+            .collect();
         report_parry_agreement(
             &format!("scaling {label}"),
             &receptor,
-            &drug,
             &parry_rule,
-            &[(start, end)],
-            (&rec, &dr),
+            &rec,
+            &queries,
         );
         let col = ready(Collider::build(&receptor, &parry_rule, ColliderKind::Grid));
-        let atoms = DrugAtoms::new(&drug, &parry_rule, col.max_radius());
+        let atoms: Vec<DrugAtoms> = patches
+            .iter()
+            .map(|p| DrugAtoms::new(&p.drug, &parry_rule, col.max_radius()))
+            .collect();
         let opts = TouchOptions::default();
         g.bench_function(BenchmarkId::new("touch-grid-parry-rule", &label), |b| {
-            b.iter(|| black_box(move_to_touch(&col, &atoms, &start, black_box(&end), &opts)))
+            cycle(b, &mut |k| {
+                let (s, e) = &steps[k];
+                drop(black_box(move_to_touch(
+                    &col,
+                    &atoms[k],
+                    s,
+                    black_box(e),
+                    &opts,
+                )))
+            })
         });
         g.bench_function(BenchmarkId::new("check-parry3d", &label), |b| {
-            b.iter(|| {
-                black_box(query::intersection_test(
+            cycle(b, &mut |k| {
+                let _ = black_box(query::intersection_test(
                     &PPose::IDENTITY,
                     &rec.compound,
-                    &ppose(black_box(&end)),
-                    &dr.compound,
-                ))
+                    &ppose(black_box(&steps[k].1)),
+                    &drugs[k].compound,
+                ));
             })
         });
         g.bench_function(BenchmarkId::new("touch-parry3d", &label), |b| {
-            b.iter(|| black_box(parry::cast(&rec, &dr, &start, black_box(&end))))
+            cycle(b, &mut |k| {
+                let (s, e) = &steps[k];
+                black_box(parry::cast(&rec, &drugs[k], s, black_box(e)));
+            })
         });
         g.bench_function(BenchmarkId::new("touch-parry3d-contacts", &label), |b| {
-            b.iter(|| black_box(parry::touch(&rec, &dr, &start, black_box(&end), 1e-3)))
+            cycle(b, &mut |k| {
+                let (s, e) = &steps[k];
+                drop(black_box(parry::touch(
+                    &rec,
+                    &drugs[k],
+                    s,
+                    black_box(e),
+                    1e-3,
+                )));
+            })
         });
     }
     g.finish();

@@ -17,6 +17,7 @@ mod frames;
 #[cfg(feature = "parry")]
 pub mod parry;
 mod scaling;
+mod surface;
 mod svg;
 mod table1;
 mod timing;

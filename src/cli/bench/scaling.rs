@@ -3,7 +3,8 @@
 //! build time against atom count.
 //!
 //! The drug is a patch of the receptor's own surface: its outermost atom and
-//! that atom's nearest neighbours (a copy), pushed outwards until it is free.
+//! that atom's nearest neighbours (a copy), pushed outwards until it is free
+//! ([`super::surface`], which the criterion bench shares).
 //! The check is at the end pose, a 1.5 Å step back towards the surface (it
 //! collides there); move-to-touch is that step (it touches on the way).
 
@@ -15,8 +16,8 @@ use bump::collide::{
 };
 use bump::model::{self, LoadOptions, Molecule};
 use bump::motion::Pose;
-use glam::DVec3;
 
+use super::surface::surface_drug;
 use super::svg::{Panel, Series};
 use super::timing::{Progress, median, median_us};
 use super::{Context, Section};
@@ -52,42 +53,12 @@ pub fn steps(ctx: &Context) -> usize {
     receptors(ctx).len() + DRUG_SIZES.len()
 }
 
-/// An `n`-atom surface patch of `receptor`, its free start and the end of
-/// a 1.5 Å step back in (relative poses).
-fn surface_drug(receptor: &Molecule, rule: &ContactRule, n: usize) -> (Molecule, Pose, Pose) {
-    let far = receptor
-        .local
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.length().total_cmp(&b.1.length()))
-        .map_or(0, |(i, _)| i);
-    let p = receptor.local[far];
-    let mut near: Vec<(f32, usize)> = receptor
-        .local
-        .iter()
-        .enumerate()
-        .map(|(i, q)| ((*q - p).length_squared(), i))
-        .collect();
-    let n = n.min(near.len());
-    near.select_nth_unstable_by(n.saturating_sub(1), |a, b| a.0.total_cmp(&b.0));
-    let mut pick: Vec<usize> = near[..n].iter().map(|x| x.1).collect();
-    pick.sort_unstable();
-    let atoms = pick.iter().map(|&i| receptor.atoms[i].clone()).collect();
-    let pos: Vec<DVec3> = pick.iter().map(|&i| receptor.file_position(i)).collect();
-    let drug = Molecule::new(format!("{n}-atom surface patch"), atoms, &pos);
-    let dir = (drug.centre - receptor.centre).normalize_or(DVec3::X);
-    let col = Collider::build(receptor, rule, ColliderKind::Hashed);
-    let atoms = DrugAtoms::new(&drug, rule, col.max_radius());
-    let mut shift = 0.5;
-    let start = loop {
-        let p = Pose::from_translation(drug.centre - receptor.centre + dir * shift);
-        if check(&col, &atoms, &p).is_empty() || shift > 100.0 {
-            break p;
-        }
-        shift += 0.5;
-    };
-    let end = start.moved(-dir * 1.5, DVec3::ZERO, 0.0);
-    (drug, start, end)
+/// An `n`-atom surface patch of `receptor` ([`surface_drug`]), its free
+/// start and the end of a 1.5 Å step back in (relative poses).
+fn patch(receptor: &Molecule, rule: &ContactRule, n: usize) -> Option<(Molecule, Pose, Pose)> {
+    let p = surface_drug(receptor, rule, n)?;
+    let end = p.step_in(1.5);
+    Some((p.drug, p.start, end))
 }
 
 /// Times of one drug against one receptor, per collider (µs).
@@ -213,11 +184,13 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
     for file in receptors(ctx) {
         progress.step(&format!("receptor size: {file}"));
         match load(dir, file) {
-            Ok(r) => {
-                let (drug, start, end) = surface_drug(&r, &rule, 30);
-                let t = time_all(ctx, &rule, &r, &drug, &start, &end);
-                rows.push((file.to_string(), r.len(), t));
-            }
+            Ok(r) => match patch(&r, &rule, 30) {
+                Some((drug, start, end)) => {
+                    let t = time_all(ctx, &rule, &r, &drug, &start, &end);
+                    rows.push((file.to_string(), r.len(), t));
+                }
+                None => md.push_str(&format!("- {file} skipped: no atoms\n")),
+            },
             Err(e) => md.push_str(&format!("- {file} skipped: {e}\n")),
         }
     }
@@ -276,8 +249,9 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
     let receptor = load(dir, DRUG_SWEEP_RECEPTOR);
     for n in DRUG_SIZES {
         progress.step(&format!("drug size: {n} atoms"));
-        if let Ok(r) = &receptor {
-            let (drug, start, end) = surface_drug(r, &rule, n);
+        if let Ok(r) = &receptor
+            && let Some((drug, start, end)) = patch(r, &rule, n)
+        {
             drows.push((drug.len(), time_all(ctx, &rule, r, &drug, &start, &end)));
         }
     }
