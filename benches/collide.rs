@@ -32,6 +32,7 @@ use bump::collide::{
 };
 use bump::model::{self, LigandSpec, LoadOptions, Molecule};
 use bump::motion::{Pose, Screw};
+use bump::rng::sphere_directions;
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
@@ -46,7 +47,7 @@ use parry::{Spheres, pose as ppose};
 #[path = "../src/cli/bench/surface.rs"]
 #[allow(dead_code)] // `surface_drug`, the single patch, is `bump bench`'s.
 mod surface;
-use surface::{fibonacci, surface_drugs};
+use surface::surface_drugs;
 
 /// Surface patches per receptor in the scaling group, timed in turn.
 const SURFACE_PATCHES: usize = 16;
@@ -81,7 +82,7 @@ fn approach_queries(
     let atoms = DrugAtoms::new(drug, rule, col.max_radius());
     let mut out = Vec::new();
     for dist in [3.0, 2.0, 1.5, 1.0] {
-        for d in fibonacci(400) {
+        for d in sphere_directions(400) {
             let start = crystal.moved(d * dist, DVec3::ZERO, 0.0);
             if out.len() < n && check(&col, &atoms, &start).is_empty() {
                 out.push((start, start.moved(-d, DVec3::ZERO, 0.0)));
@@ -340,12 +341,27 @@ fn scaling(c: &mut Criterion) {
                 k += 1;
             })
         };
+        // The patches' drugs for a collider under a rule, and one patch's
+        // move-to-touch (for every touch row).
+        let drug_atoms = |col: &Collider, rule: &ContactRule| -> Vec<DrugAtoms> {
+            patches
+                .iter()
+                .map(|p| DrugAtoms::new(&p.drug, rule, col.max_radius()))
+                .collect()
+        };
+        let touch = |col: &Collider, atoms: &[DrugAtoms], opts: &TouchOptions, k: usize| {
+            let (s, e) = &steps[k];
+            drop(black_box(move_to_touch(
+                col,
+                &atoms[k],
+                s,
+                black_box(e),
+                opts,
+            )));
+        };
         for kind in ColliderKind::ALL {
             let col = ready(Collider::build(&receptor, &rule, kind));
-            let atoms: Vec<DrugAtoms> = patches
-                .iter()
-                .map(|p| DrugAtoms::new(&p.drug, &rule, col.max_radius()))
-                .collect();
+            let atoms = drug_atoms(&col, &rule);
             g.bench_function(
                 BenchmarkId::new(format!("check-{}", kind.name()), &label),
                 |b| {
@@ -364,18 +380,7 @@ fn scaling(c: &mut Criterion) {
                 };
                 g.bench_function(
                     BenchmarkId::new(format!("{name}-{}", kind.name()), &label),
-                    |b| {
-                        cycle(b, &mut |k| {
-                            let (s, e) = &steps[k];
-                            drop(black_box(move_to_touch(
-                                &col,
-                                &atoms[k],
-                                s,
-                                black_box(e),
-                                &opts,
-                            )))
-                        })
-                    },
+                    |b| cycle(b, &mut |k| touch(&col, &atoms, &opts, k)),
                 );
             }
         }
@@ -399,22 +404,10 @@ fn scaling(c: &mut Criterion) {
             &queries,
         );
         let col = ready(Collider::build(&receptor, &parry_rule, ColliderKind::Grid));
-        let atoms: Vec<DrugAtoms> = patches
-            .iter()
-            .map(|p| DrugAtoms::new(&p.drug, &parry_rule, col.max_radius()))
-            .collect();
+        let atoms = drug_atoms(&col, &parry_rule);
         let opts = TouchOptions::default();
         g.bench_function(BenchmarkId::new("touch-grid-parry-rule", &label), |b| {
-            cycle(b, &mut |k| {
-                let (s, e) = &steps[k];
-                drop(black_box(move_to_touch(
-                    &col,
-                    &atoms[k],
-                    s,
-                    black_box(e),
-                    &opts,
-                )))
-            })
+            cycle(b, &mut |k| touch(&col, &atoms, &opts, k))
         });
         g.bench_function(BenchmarkId::new("check-parry3d", &label), |b| {
             cycle(b, &mut |k| {

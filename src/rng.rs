@@ -1,6 +1,7 @@
 //! A tiny seeded random generator (xorshift64*) for the benchmark report and
 //! the tests: the same seed gives the same queries on every machine, with no
-//! seed crate.
+//! seed crate; and [`sphere_directions`], the evenly spread directions they
+//! search or sample along.
 
 use glam::DVec3;
 
@@ -46,6 +47,20 @@ impl Rng {
     }
 }
 
+/// `n` unit vectors spread evenly over the sphere (a Fibonacci lattice),
+/// in a fixed order.
+pub fn sphere_directions(n: usize) -> Vec<DVec3> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let r = (1.0 - y * y).sqrt();
+            let phi = golden * i as f64;
+            DVec3::new(r * phi.cos(), y, r * phi.sin())
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -61,5 +76,21 @@ mod tests {
             b.unit();
         }
         assert_ne!(Rng(1).next_u64(), Rng(2).next_u64());
+    }
+
+    #[test]
+    fn sphere_directions_are_unit_and_spread_evenly() {
+        let d = super::sphere_directions(300);
+        assert_eq!(d.len(), 300);
+        assert!(d.iter().all(|v| (v.length() - 1.0).abs() < 1e-12));
+        // Evenly spread: their mean is near the centre, and no two coincide.
+        let mean = d.iter().copied().sum::<DVec3>() / 300.0;
+        assert!(mean.length() < 1e-2, "{mean}");
+        let closest = (0..300)
+            .flat_map(|i| (0..i).map(move |j| (i, j)))
+            .map(|(i, j)| d[i].distance(d[j]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(closest > 0.1, "{closest}");
+        assert!(super::sphere_directions(0).is_empty());
     }
 }

@@ -7,6 +7,7 @@ mod common;
 use bump::collide::{ColliderKind, ContactRule, TouchOptions};
 use bump::model::{self, LigandSpec, LoadOptions, Molecule};
 use bump::motion::Pose;
+use bump::rng::sphere_directions;
 use bump::scene::Scene;
 use glam::DVec3;
 
@@ -55,19 +56,6 @@ fn crystal_poses_do_not_collide() {
     println!("1s3v + TQD crystal pose: {} clashes", pairs.len());
 }
 
-/// Fibonacci-sphere directions.
-fn directions(n: usize) -> Vec<DVec3> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let r = (1.0 - y * y).sqrt();
-            let phi = golden * i as f64;
-            DVec3::new(r * phi.cos(), y, r * phi.sin())
-        })
-        .collect()
-}
-
 #[test]
 fn drugs_return_to_their_crystal_pose_along_free_paths() {
     let Some(dir) = common::shared_pdb() else {
@@ -93,7 +81,7 @@ fn drugs_return_to_their_crystal_pose_along_free_paths() {
         let s = Scene::new(r.clone(), d.clone(), rule, ColliderKind::Hashed);
         let crystal = s.file_relative(DVec3::ZERO);
         let (mut free_starts, mut free_paths) = (0, 0);
-        for dir in directions(300) {
+        for dir in sphere_directions(300) {
             for dist in [1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0] {
                 let start = Pose::from_translation(crystal.translation + dir * dist);
                 if !s.check(&start).is_empty() {

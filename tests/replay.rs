@@ -17,6 +17,7 @@ use bump::collide::ColliderKind;
 use bump::input::{Controllers, DeviceInfo, JoystickMap, RawEvent};
 use bump::model::{self, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
 use bump::motion::Pose;
+use bump::rng::sphere_directions;
 use bump::session::{
     Command, FrameInput, LogFrame, LogWriter, Mode, Motion6, Session, SessionLog, Settings, replay,
 };
@@ -385,14 +386,8 @@ fn write_the_shipped_session() {
     let probe = Session::new(molecules.clone(), settings).unwrap();
     let crystal = probe.bodies()[1].pose;
     let turned = DQuat::from_axis_angle(DVec3::new(0.3, 1.0, 0.2).normalize(), 30f64.to_radians());
-    let n = 300;
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     let mut found = None;
-    for i in 0..n {
-        let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-        let r = (1.0 - y * y).sqrt();
-        let phi = golden * i as f64;
-        let d = DVec3::new(r * phi.cos(), y, r * phi.sin());
+    for d in sphere_directions(300) {
         let Some(near) = [4.0, 3.0, 2.0, 1.0]
             .into_iter()
             .find(|&x| straight_path_free(&molecules, settings, d, x))

@@ -14,6 +14,7 @@
 use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, check};
 use bump::model::Molecule;
 use bump::motion::Pose;
+use bump::rng::sphere_directions;
 use glam::DVec3;
 
 /// One surface patch: the drug, its first free pose (relative to the
@@ -68,7 +69,7 @@ pub fn surface_drugs(
         .max_by(|a, b| a.1.length().total_cmp(&b.1.length()).then(b.0.cmp(&a.0)))
         .map_or(0, |(i, _)| i);
     let mut apexes = vec![first];
-    for d in fibonacci(count.saturating_sub(1)) {
+    for d in sphere_directions(count.saturating_sub(1)) {
         let i = outermost(d);
         if !apexes.contains(&i) {
             apexes.push(i);
@@ -115,17 +116,4 @@ fn patch(receptor: &Molecule, col: &Collider, rule: &ContactRule, apex: usize, n
         shift += 0.5;
     };
     Patch { drug, start, out }
-}
-
-/// `n` unit vectors spread evenly over the sphere (a Fibonacci lattice).
-pub fn fibonacci(n: usize) -> Vec<DVec3> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let r = (1.0 - y * y).sqrt();
-            let phi = golden * i as f64;
-            DVec3::new(r * phi.cos(), y, r * phi.sin())
-        })
-        .collect()
 }
