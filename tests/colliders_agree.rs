@@ -5,6 +5,9 @@
 //! at the pose it returns.
 
 mod common;
+#[path = "../src/cli/bench/surface.rs"]
+#[allow(dead_code)]
+mod surface;
 
 use bump::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, TouchOptions, check, move_to_touch,
@@ -151,5 +154,62 @@ fn real_structures_agree() {
             agree_with(&cols, &drug, &rel, 0.0);
             agree_with(&cols, &drug, &rel, 0.5);
         }
+    }
+}
+
+/// The large receptors of the scaling benchmark, whose clearance maps have
+/// more than 2²⁴ vertices (up to 2²⁶): move-to-touch onto each of 16
+/// surface patches (a 1.5 Å step in, the same with a 15° turn, and a 6 Å
+/// step that goes deeper) returns brute force's answer bit for bit, and the
+/// static check at the end poses finds brute force's pairs. A map vertex's
+/// index once went through f32, which past 2²⁴ reads a neighbour's value:
+/// the maps of all four receptors then proved some atoms clear that were
+/// not, and a 1aon patch stopped 0.24 Å deep in a carbon pair.
+#[test]
+fn large_receptors_agree_on_surface_approaches() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let rule = ContactRule::default();
+    let strict = ContactRule::new(rule.overlap, 0.0).expect("rule");
+    let opts = TouchOptions::default();
+    for file in [
+        "4kya.pdb.gz",
+        "2btv.pdb.gz",
+        "1aon.pdb.gz",
+        "1f2n_assembly1.cif.gz",
+    ] {
+        let loaded =
+            bump::model::load(&dir.join(file), &bump::model::LoadOptions::default()).expect(file);
+        let receptor = bump::model::receptor_only(&loaded.structure).expect(file);
+        let cols = colliders(&receptor);
+        let vertices = cols[1].clearance().map_or(0, |m| m.bytes());
+        assert!(vertices > 1 << 24, "{file}: {vertices} vertices");
+        let patches = surface::surface_drugs(&receptor, &strict, 30, 16);
+        assert_eq!(patches.len(), 16, "{file}");
+        let mut rng = Rng(17);
+        let mut touched = 0;
+        for (k, patch) in patches.iter().enumerate() {
+            let d = DrugAtoms::new(&patch.drug, &rule, cols[0].max_radius());
+            let turned = patch
+                .step_in(1.5)
+                .moved(DVec3::ZERO, rng.unit(), 15f64.to_radians());
+            for end in [patch.step_in(1.5), turned, patch.step_in(6.0)] {
+                let reference = move_to_touch(&cols[0], &d, &patch.start, &end, &opts);
+                assert!(reference.colliding.is_empty(), "{file} patch {k}");
+                touched += usize::from(reference.t < 1.0);
+                for c in &cols[1..] {
+                    let r = move_to_touch(c, &d, &patch.start, &end, &opts);
+                    let what = format!("{file} patch {k}, {:?}", c.kind());
+                    assert_eq!(r.t.to_bits(), reference.t.to_bits(), "{what}: t");
+                    assert_eq!(r.contacts, reference.contacts, "{what}: contacts");
+                    assert!(check(c, &d, &r.pose).is_empty(), "{what}: overlap");
+                }
+                agree_with(&cols, &patch.drug, &end, 0.0);
+                agree_with(&cols, &patch.drug, &end, 0.5);
+            }
+        }
+        // The steps in meet the surface, so the comparison is not vacuous.
+        assert!(touched >= 40, "{file}: {touched} of 48 steps touched");
     }
 }

@@ -130,8 +130,7 @@ struct Lanes {
     origin: [f32x4; 3],
     /// The number of vertices less one along x, y and z.
     last: [f32x4; 3],
-    /// Vertices along x and along y (a vertex index is `(z·ny + y)·nx + x`).
-    nx: f32x4,
+    /// Vertices along y (a vertex index is `(z·ny + y)·nx + x`).
     ny: f32x4,
     /// The spacing squared.
     step2: f32x4,
@@ -255,7 +254,9 @@ impl Clearance {
             // coarser (until the size check below refuses it).
             let dims = [span.x, span.y, span.z].map(|s| (s.ceil() as usize).saturating_add(1));
             let total = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
-            if total.is_some_and(|n| n <= MAX_VERTICES) {
+            // A row index `z · ny + y` stays exact in f32 (see
+            // `clear_nearest4`).
+            if total.is_some_and(|n| n <= MAX_VERTICES) && dims[1] * dims[2] <= 1 << 24 {
                 break dims;
             }
             spacing *= 1.25;
@@ -320,7 +321,6 @@ impl Clearance {
             lanes: Lanes {
                 origin: [origin.x, origin.y, origin.z].map(f32x4::splat),
                 last: last.map(f32x4::splat),
-                nx: f32x4::splat(nx as f32),
                 ny: f32x4::splat(ny as f32),
                 step2: f32x4::splat(spacing * spacing),
             },
@@ -469,7 +469,6 @@ impl Clearance {
         let Lanes {
             origin,
             last,
-            nx,
             ny,
             step2,
         } = self.lanes;
@@ -492,23 +491,30 @@ impl Clearance {
         let finite = p[0].abs().simd_le(big) & p[1].abs().simd_le(big) & p[2].abs().simd_le(big);
         let beyond = usable & finite & !inside;
         // The nearest corner (rounded to nearest: inside, within 0 ..=
-        // last), the point's offset from it in lattice units, and its index
-        // (exact in f32: below MAX_VERTICES = 2^24). Which of two corners
-        // a point halfway between takes does not matter: the bounds below
-        // hold for any corner of its cell.
+        // last) and the point's offset from it in lattice units. Which of
+        // two corners a point halfway between takes does not matter: the
+        // bounds below hold for any corner of its cell.
         let near = |u: f32x4| {
-            let c = u.fast_round_int().round_float();
-            (c, u - c)
+            let c = u.fast_round_int();
+            (c, c.round_float(), u - c.round_float())
         };
-        let (cx, ex) = near(u[0]);
-        let (cy, ey) = near(u[1]);
-        let (cz, ez) = near(u[2]);
-        // Lanes outside read vertex 0 (what they read is masked off below),
-        // so the four loads need no branch of their own.
-        let index = (((cz * ny + cy) * nx + cx) & inside)
-            .fast_trunc_int()
-            .to_array();
-        let value = |k: usize| i32::from(self.values.get(index[k] as usize).copied().unwrap_or(0));
+        let (ix, _, ex) = near(u[0]);
+        let (_, cy, ey) = near(u[1]);
+        let (_, cz, ez) = near(u[2]);
+        // Its index, `row · nx + x` with `row = z · ny + y`: the row in f32
+        // (exact: the build keeps `ny · nz` within 2^24), the rest in
+        // integers, since a map may have up to 2^26 vertices and in f32 an
+        // index past 2^24 rounds to a neighbouring vertex, whose value can
+        // prove a point that is not clear. Lanes outside read vertex 0
+        // (what they read is masked off below), so the four loads need no
+        // branch of their own.
+        let row = ((cz * ny + cy) & inside).fast_trunc_int().to_array();
+        let x = (ix & bytemuck::cast::<f32x4, i32x4>(inside)).to_array();
+        let nx = self.dims[0];
+        let value = |k: usize| {
+            let index = row[k] as usize * nx + x[k] as usize;
+            i32::from(self.values.get(index).copied().unwrap_or(0))
+        };
         let v = i32x4::from([value(0), value(1), value(2), value(3)]).round_float();
         let room = v * f32x4::splat(1.0 / SCALE) - (d + f32x4::splat(ROUNDING));
         let e2 = (ex * ex + ey * ey + ez * ez) * step2;
@@ -722,6 +728,48 @@ mod tests {
         assert!(
             by_nearest > 1000 && by_corners > 100 && hopeless > 1000,
             "{by_nearest} {by_corners} {hopeless}"
+        );
+    }
+
+    /// A lattice of more than 2²⁴ vertices (f32 holds integers exactly only
+    /// that far): four points at a time still answer as one at a time, and
+    /// never claim more than the exact clearance. The nearest vertex's index
+    /// once went through f32 and read a neighbour's value past 2²⁴.
+    #[test]
+    fn lattices_past_two_to_the_24_vertices_answer_exactly() {
+        let mut rng = Rng(13);
+        let atoms = random_atoms(&mut rng, 1500, 90.0);
+        let map = Clearance::build(&atoms).expect("atoms");
+        assert_eq!(map.spacing(), FINEST);
+        assert!(map.bytes() > 1 << 24, "{} vertices", map.bytes());
+        let (mut proved, mut high) = (0, 0);
+        for _ in 0..20_000 {
+            // Near an atom, where the bound is tight.
+            let x: [Vec3; 4] = std::array::from_fn(|_| {
+                let a = atoms[(rng.next_u64() % atoms.len() as u64) as usize].truncate();
+                a + rng.in_box(DVec3::splat(4.5)).as_vec3()
+            });
+            let d: [f32; 4] = std::array::from_fn(|_| rng.range(0.1, 3.0) as f32);
+            let lanes = |f: fn(&Vec3) -> f32| f32x4::from(x.each_ref().map(f));
+            let got = map.clear_nearest4(
+                [lanes(|v| v.x), lanes(|v| v.y), lanes(|v| v.z)],
+                f32x4::from(d),
+            );
+            for l in 0..4 {
+                let nearest = got.proved & (1 << l) != 0;
+                let four = nearest || map.clear_corners(x[l], d[l]);
+                assert_eq!(four, map.clear(x[l], d[l]), "{} d {}", x[l], d[l]);
+                if nearest {
+                    let f = exact(&atoms, x[l]);
+                    assert!(f > f64::from(d[l]), "{} d {}: exact {f}", x[l], d[l]);
+                    proved += 1;
+                    high += usize::from(map.locate(x[l]).is_some_and(|c| c.base >= 1 << 24));
+                }
+            }
+        }
+        assert!(
+            proved > 5000 && high > 2000,
+            "{proved} proved, {high} past 2^24"
         );
     }
 
