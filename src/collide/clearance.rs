@@ -496,7 +496,8 @@ impl Clearance {
         // bounds below hold for any corner of its cell.
         let near = |u: f32x4| {
             let c = u.fast_round_int();
-            (c, c.round_float(), u - c.round_float())
+            let f = c.round_float();
+            (c, f, u - f)
         };
         let (ix, _, ex) = near(u[0]);
         let (_, cy, ey) = near(u[1]);
