@@ -135,12 +135,14 @@ fn visit_group<F: FnMut(Pair) -> bool>(
         let i = 4 * g + l;
         let far = drug.reach[i] + extra_room;
         let mut go_on = true;
+        // As `drug.contact(i, ..)`, its parts looked up once per atom.
+        let parts = drug.contact_parts(i);
         collider.near(x, far, |a, meta, d2| {
             if !go_on {
                 return;
             }
             let (j, polar) = unpack_meta(meta);
-            let c = drug.contact(i, a.w, polar);
+            let c = a.w + parts[usize::from(polar)];
             if within(d2, c + extra) {
                 go_on = f(Pair {
                     receptor: j,

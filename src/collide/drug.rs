@@ -209,6 +209,15 @@ impl DrugAtoms {
         }
     }
 
+    /// The parts of atom `i`'s contact distances that do not depend on the
+    /// receptor atom's radius: with a non-polar partner (`[0]`) and a
+    /// polar one (`[1]`), so that `contact(i, r, polar)` is
+    /// `r + contact_parts(i)[polar as usize]`.
+    #[inline]
+    pub fn contact_parts(&self, i: usize) -> [f32; 2] {
+        [self.c_plain[i], self.c_polar[i]]
+    }
+
     /// Atom positions in the receptor frame for the relative pose `rel`,
     /// computed in f64 and rounded to f32 once.
     pub fn placed(&self, rel: &Pose) -> impl Iterator<Item = Vec3> + '_ {
