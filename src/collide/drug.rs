@@ -202,17 +202,14 @@ impl DrugAtoms {
     /// and polarity `polar` (see [`ContactRule`]).
     #[inline]
     pub fn contact(&self, i: usize, r: f32, polar: bool) -> f32 {
-        r + if polar {
-            self.c_polar[i]
-        } else {
-            self.c_plain[i]
-        }
+        r + self.contact_parts(i)[usize::from(polar)]
     }
 
     /// The parts of atom `i`'s contact distances that do not depend on the
     /// receptor atom's radius: with a non-polar partner (`[0]`) and a
-    /// polar one (`[1]`), so that `contact(i, r, polar)` is
-    /// `r + contact_parts(i)[polar as usize]`.
+    /// polar one (`[1]`), so that [`DrugAtoms::contact`] is
+    /// `r + contact_parts(i)[polar as usize]`. The searches look them up
+    /// once per drug atom, before visiting the receptor atoms in its reach.
     #[inline]
     pub fn contact_parts(&self, i: usize) -> [f32; 2] {
         [self.c_plain[i], self.c_polar[i]]
@@ -353,6 +350,39 @@ mod tests {
                     .fold(f32::NEG_INFINITY, f32::max)
             })
             .collect()
+    }
+
+    /// `contact` is the rule's contact distance: radii summed less the
+    /// overlap, and less the H-bond allowance only for two N/O atoms.
+    #[test]
+    fn contact_is_the_rule() {
+        let rule = ContactRule::default();
+        let atoms: Vec<AtomInfo> = (0..4)
+            .map(|k| {
+                let mut a = test_carbon(k as i64 + 1);
+                a.polar = k % 2 == 1;
+                a.radius = 1.5 + 0.1 * k as f32;
+                a
+            })
+            .collect();
+        let pos: Vec<DVec3> = (0..4).map(|k| DVec3::X * (3.0 * k as f64)).collect();
+        let drug = DrugAtoms::new(&Molecule::new("d", atoms.clone(), &pos), &rule, 1.8);
+        for (i, a) in atoms.iter().enumerate() {
+            for (r, polar) in [(1.7f32, false), (1.55, true)] {
+                let allowance = if a.polar && polar {
+                    rule.hbond_allowance
+                } else {
+                    0.0
+                };
+                let want = r + a.radius - rule.overlap - allowance;
+                assert!(
+                    (drug.contact(i, r, polar) - want).abs() < 1e-6,
+                    "atom {i} {polar}"
+                );
+                let parts = drug.contact_parts(i);
+                assert_eq!(drug.contact(i, r, polar), r + parts[usize::from(polar)]);
+            }
+        }
     }
 
     /// The lanes of `own_four` are `own` in order, padded with −∞ (which
