@@ -10,7 +10,10 @@
 //! - [`ColliderKind::Grid`] is a full 3-D grid over the bounding box (the
 //!   thesis's first variant). Atoms are stored sorted by cell, x fastest, so a
 //!   row of cells is one contiguous run; its cells are short in x and long in
-//!   y and z (`GRID_EDGE`), so a query covers few rows.
+//!   y and z (`GRID_EDGE`), so a query covers few rows. It also keeps its
+//!   atoms in padded rows ([`super::padded_rows`]), rows on a finer y-z
+//!   spacing that overlap, so the ball of a drug atom's reach lies in one
+//!   row and its query scans a single run.
 //! - [`ColliderKind::Hashed`] hashes cell coordinates into a table whose size is
 //!   chosen from the atom count (the thesis's variant: one pass, no bounds).
 //!   The hash of cell `(x, y, z)` is a hash of its row `(y, z)` plus `x`
@@ -35,6 +38,7 @@ use serde::Serialize;
 use wide::{f32x4, i32x4};
 
 use super::clearance::Clearance;
+use super::padded_rows::PaddedRows;
 use super::rule::ContactRule;
 use crate::model::Molecule;
 
@@ -75,6 +79,17 @@ impl ColliderKind {
     }
 }
 
+/// Largest drug atom radius, in Å, whose searches the padded rows serve:
+/// every common drug element's (C, N, O, F, P, S, Cl) but bromine's and
+/// iodine's, whose searches go to the plain grid. A receptor's largest
+/// radius (1rx1 has an atom of 2.31 Å) sets the grid's cell, but a larger
+/// margin than needed scans and stores more for every query.
+const ROW_DRUG_RADIUS: f32 = 1.8;
+
+/// Room the padded rows keep beyond a drug atom's reach, in Å: its sweep
+/// over half an interval of 1 Å, and the tolerance.
+const ROW_SLACK: f32 = 0.75;
+
 /// Largest number of cells a full grid may have before its cell grows.
 const MAX_GRID_CELLS: usize = 1 << 24;
 
@@ -101,6 +116,11 @@ pub struct Collider {
     /// so a bucket scan keeps just the atoms of the cell asked for.
     cells: Vec<[i32; 3]>,
     index: Index,
+    /// The full grid's atoms again in padded rows, for balls up to their
+    /// margin (see [`PaddedRows`]): full grid only, built on the
+    /// clearance map's thread before the map; queries use the plain grid
+    /// until they are there, with the same answers.
+    rows: Arc<OnceLock<Option<PaddedRows>>>,
     /// How far points are from the atoms (grids only; the reference
     /// stays plain brute force). Built on its own thread, so a collider
     /// answers at once; queries use the map once it is there. Answers are
@@ -369,25 +389,48 @@ impl Collider {
             slot[i as usize] = k as u32;
         }
         let clearance = Arc::new(OnceLock::new());
+        let rows = Arc::new(OnceLock::new());
+        // The rows serve balls of a drug atom's reach over one interval
+        // (its radius less the smallest allowance, plus the largest receptor
+        // radius and the interval's sweep); the hashed grid has none (its
+        // rows are a hash table's runs).
+        let row_margin = (max_radius + ROW_DRUG_RADIUS - rule.min_allowance()).max(1.0) + ROW_SLACK;
+        let row_edge = GRID_EDGE.x * cell;
         match kind {
             ColliderKind::Brute => {
                 let _ = clearance.set(None);
+                let _ = rows.set(None);
             }
             ColliderKind::Grid | ColliderKind::Hashed => {
+                let padded = kind == ColliderKind::Grid;
+                if !padded {
+                    let _ = rows.set(None);
+                }
                 // The map takes longer to build than the grid (40 ms for
-                // 1.3k atoms, over a second for 272k); the session builds
-                // a collider in the frame that turns collision on, so it
-                // must not wait.
-                let (slot, copy) = (Arc::clone(&clearance), atoms.clone());
+                // 1.3k atoms, over a second for 272k), the rows up to a
+                // tenth of that; the session builds a collider in the frame
+                // that turns collision on, so it must not wait.
+                let (rows_slot, map_slot, copy) =
+                    (Arc::clone(&rows), Arc::clone(&clearance), atoms.clone());
                 let spawned = std::thread::Builder::new()
                     .name("bump-clearance".into())
                     .spawn(move || {
-                        // Set even if the build panicked, so nobody waits forever.
+                        // Each set even if its build panicked, so nobody
+                        // waits forever.
+                        if padded {
+                            let built = std::panic::catch_unwind(|| {
+                                PaddedRows::build(&copy, row_margin, row_edge)
+                            });
+                            let _ = rows_slot.set(built.ok().flatten());
+                        }
                         let map = std::panic::catch_unwind(|| Clearance::build(&copy));
-                        let _ = slot.set(map.ok().flatten());
+                        let _ = map_slot.set(map.ok().flatten());
                     });
                 if spawned.is_err() {
-                    // No thread to be had: build it here.
+                    // No thread to be had: build them here.
+                    if padded {
+                        let _ = rows.set(PaddedRows::build(&atoms, row_margin, row_edge));
+                    }
                     let _ = clearance.set(Clearance::build(&atoms));
                 }
             }
@@ -400,6 +443,7 @@ impl Collider {
             slot,
             cells,
             index,
+            rows,
             clearance,
             cell,
             max_radius,
@@ -443,8 +487,15 @@ impl Collider {
         self.clearance.get().and_then(Option::as_ref)
     }
 
+    /// Whether the full grid's padded rows are built (never for the other
+    /// kinds, nor for a receptor too sparse for their limits).
+    pub fn has_padded_rows(&self) -> bool {
+        matches!(self.rows.get(), Some(Some(_)))
+    }
+
     /// Waits until the clearance map is built (at once for brute force),
-    /// so benchmarks time the queries as they run from then on.
+    /// so benchmarks time the queries as they run from then on. The full
+    /// grid's padded rows are built before the map, so they are there too.
     pub fn wait_for_clearance(&self) -> Option<&Clearance> {
         self.clearance.wait().as_ref()
     }
@@ -517,13 +568,20 @@ impl Collider {
     /// the order is the storage order of each row's run.
     ///
     /// # Performance
-    /// Each run of stored atoms is tested four at a time with the lanes
+    /// The full grid answers a ball up to its padded rows' margin from
+    /// one run of one row. Each run of stored atoms is tested four at a time with the lanes
     /// past its end masked off, so the cost per row of cells is nearly
     /// constant and free of mispredicted loop exits. The hashed grid's
     /// check that an atom belongs to the row (buckets are shared) is paid
     /// only by atoms inside the ball.
     #[inline]
     pub fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, mut f: F) {
+        if let Some(Some(rows)) = self.rows.get()
+            && radius <= rows.margin()
+        {
+            rows.near(p, radius, |s, d2| f(self.atoms[s], self.meta[s], d2));
+            return;
+        }
         let r2 = radius * radius;
         let (lo, hi) = (p - Vec3::splat(radius), p + Vec3::splat(radius));
         match &self.index {

@@ -1,10 +1,11 @@
 //! Collision detection between a receptor and a drug made of spheres.
 //!
 //! [`rule`] says when two atoms collide; [`collider`] indexes the receptor
-//! (brute force, full grid or hashed grid) and keeps a [`clearance`] map of
-//! the space around it; [`mod@check`] answers static queries;
-//! [`sweep`] moves the drug to touch without tunnelling; [`response`] turns a
-//! proposed step into the session's answer (stop, touch, slide, pass);
+//! (brute force, full grid or hashed grid; the full grid also in
+//! [`padded_rows`]) and keeps a [`clearance`] map of the space around it;
+//! [`mod@check`] answers static queries; [`sweep`] moves the drug to touch
+//! without tunnelling; [`response`] turns a proposed step into the
+//! session's answer (stop, touch, slide, pass);
 //! [`stats`] measures grid occupancy (the thesis's Table 1); [`oracle`] gives
 //! exact f64 answers to measure move-to-touch against.
 
@@ -13,6 +14,7 @@ pub mod clearance;
 pub mod collider;
 pub mod drug;
 pub mod oracle;
+pub mod padded_rows;
 pub mod response;
 pub mod rule;
 pub mod stats;

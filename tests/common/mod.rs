@@ -106,6 +106,11 @@ pub fn all_colliders(receptor: &Molecule, rule: &ContactRule) -> Vec<Collider> {
             let c = Collider::build(receptor, rule, *k);
             let map = c.wait_for_clearance().is_some();
             assert_eq!(map, *k != ColliderKind::Brute, "{k:?}: clearance map");
+            assert_eq!(
+                c.has_padded_rows(),
+                *k == ColliderKind::Grid,
+                "{k:?}: padded rows"
+            );
             c
         })
         .collect()
