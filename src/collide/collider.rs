@@ -490,7 +490,7 @@ impl Collider {
     /// Whether the full grid's padded rows are built (never for the other
     /// kinds, nor for a receptor too sparse for their limits).
     pub fn has_padded_rows(&self) -> bool {
-        matches!(self.rows.get(), Some(Some(_)))
+        self.padded_rows().is_some()
     }
 
     /// Waits until the clearance map is built (at once for brute force),
@@ -575,13 +575,26 @@ impl Collider {
     /// check that an atom belongs to the row (buckets are shared) is paid
     /// only by atoms inside the ball.
     #[inline]
-    pub fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, mut f: F) {
-        if let Some(Some(rows)) = self.rows.get()
-            && radius <= rows.margin()
-        {
-            rows.near(p, radius, |s, d2| f(self.atoms[s], self.meta[s], d2));
-            return;
+    pub fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, f: F) {
+        match self.padded_rows() {
+            Some(rows) => RowSearch {
+                collider: self,
+                rows,
+            }
+            .near(p, radius, f),
+            None => self.near_plain(p, radius, f),
         }
+    }
+
+    /// The full grid's padded rows, once built.
+    #[inline]
+    pub(crate) fn padded_rows(&self) -> Option<&PaddedRows> {
+        self.rows.get().and_then(Option::as_ref)
+    }
+
+    /// [`Collider::near`] without the padded rows.
+    #[inline]
+    pub(crate) fn near_plain<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, mut f: F) {
         let r2 = radius * radius;
         let (lo, hi) = (p - Vec3::splat(radius), p + Vec3::splat(radius));
         match &self.index {
@@ -677,6 +690,49 @@ impl Collider {
             if k >= b {
                 return;
             }
+        }
+    }
+}
+
+/// A way to ask a collider for the atoms in a ball: [`Collider::near`],
+/// split by whether the padded rows are there, so a caller that asks many
+/// times (a move-to-touch query) can be compiled once for each and carry
+/// only one of the two searches (the hashed grid's queries were 6–13 %
+/// slower with both inlined where it asks).
+pub(crate) trait Search {
+    /// As [`Collider::near`].
+    fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, f: F);
+}
+
+/// The plain index: brute force, the full grid before its rows are built,
+/// the hashed grid.
+pub(crate) struct PlainSearch<'a>(pub &'a Collider);
+
+impl Search for PlainSearch<'_> {
+    #[inline(always)]
+    fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, f: F) {
+        self.0.near_plain(p, radius, f);
+    }
+}
+
+/// The full grid with its padded rows: balls up to their margin from the
+/// rows, larger ones from the plain grid.
+pub(crate) struct RowSearch<'a> {
+    /// The collider.
+    pub collider: &'a Collider,
+    /// Its rows.
+    pub rows: &'a PaddedRows,
+}
+
+impl Search for RowSearch<'_> {
+    #[inline(always)]
+    fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, mut f: F) {
+        let c = self.collider;
+        if radius <= self.rows.margin() {
+            self.rows
+                .near(p, radius, |s, d2| f(c.atoms[s], c.meta[s], d2));
+        } else {
+            c.near_plain(p, radius, f);
         }
     }
 }

@@ -10,7 +10,7 @@ use super::pair::{Mover, may_collide};
 use super::{TouchResult, deepens, finish, violates};
 use crate::collide::check::{Pair, check, pairs_within};
 use crate::collide::clearance::Nearest4;
-use crate::collide::collider::{Collider, unpack_meta};
+use crate::collide::collider::{Collider, PlainSearch, RowSearch, Search, unpack_meta};
 use crate::collide::drug::{Balls4, DrugAtoms, Lanes3, Turn4};
 use crate::collide::rule::{reported_distance, within};
 use crate::motion::{Pose, Screw};
@@ -98,11 +98,30 @@ fn pairs_among(
 pub(super) fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> TouchResult {
     // A translation gets its own copy of the search, with every branch
     // between the two kinds of motion decided at compile time.
-    let run = |scratch: &mut Scratch| {
-        if screw.is_translation() {
-            swept_with::<true>(scratch, collider, drug, screw, tol)
-        } else {
-            swept_with::<false>(scratch, collider, drug, screw, tol)
+    // And one for each way of asking the collider (with the full grid's
+    // padded rows or without), so each carries one search.
+    let run = |scratch: &mut Scratch| match (screw.is_translation(), collider.padded_rows()) {
+        (true, Some(rows)) => swept_with::<true, _>(
+            scratch,
+            collider,
+            &RowSearch { collider, rows },
+            drug,
+            screw,
+            tol,
+        ),
+        (true, None) => {
+            swept_with::<true, _>(scratch, collider, &PlainSearch(collider), drug, screw, tol)
+        }
+        (false, Some(rows)) => swept_with::<false, _>(
+            scratch,
+            collider,
+            &RowSearch { collider, rows },
+            drug,
+            screw,
+            tol,
+        ),
+        (false, None) => {
+            swept_with::<false, _>(scratch, collider, &PlainSearch(collider), drug, screw, tol)
         }
     };
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
@@ -130,10 +149,12 @@ thread_local! {
 }
 
 /// [`swept`] with its working buffers, for a pure translation
-/// (`TRANSLATION`, which `screw` must be) or a screw.
-fn swept_with<const TRANSLATION: bool>(
+/// (`TRANSLATION`, which `screw` must be) or a screw, asking `search` (one
+/// way of asking `collider`) for the receptor atoms near a drug atom.
+fn swept_with<const TRANSLATION: bool, S: Search>(
     scratch: &mut Scratch,
     collider: &Collider,
+    search: &S,
     drug: &DrugAtoms,
     screw: &Screw,
     tol: f64,
@@ -380,7 +401,7 @@ fn swept_with<const TRANSLATION: bool>(
                         // load and a branch on polarity fewer per atom, and
                         // 1.9–3.6 % off a query's time.
                         let parts = drug.contact_parts(i);
-                        collider.near(xm32, far, |a, meta, d2| {
+                        search.near(xm32, far, |a, meta, d2| {
                             let q = a.truncate();
                             let (j, polar) = unpack_meta(meta);
                             let contact = a.w + parts[usize::from(polar)];
