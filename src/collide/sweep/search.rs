@@ -96,12 +96,10 @@ fn pairs_among(
 /// candidate of the first interval, every pair within reach at the end one of
 /// the last.
 pub(super) fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> TouchResult {
-    // A translation gets its own copy of the search, with every branch
-    // between the two kinds of motion decided at compile time.
-    // And one for each way of asking the collider (with the full grid's
-    // padded rows or without), so each carries one search.
-    let run = |scratch: &mut Scratch| match (screw.is_translation(), collider.padded_rows()) {
-        (true, Some(rows)) => swept_with::<true, _>(
+    // One copy of the search for each way of asking the collider (with the
+    // full grid's padded rows or without), so each carries one search.
+    let run = |scratch: &mut Scratch| match collider.padded_rows() {
+        Some(rows) => by_motion(
             scratch,
             collider,
             &RowSearch { collider, rows },
@@ -109,26 +107,32 @@ pub(super) fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f
             screw,
             tol,
         ),
-        (true, None) => {
-            swept_with::<true, _>(scratch, collider, &PlainSearch(collider), drug, screw, tol)
-        }
-        (false, Some(rows)) => swept_with::<false, _>(
-            scratch,
-            collider,
-            &RowSearch { collider, rows },
-            drug,
-            screw,
-            tol,
-        ),
-        (false, None) => {
-            swept_with::<false, _>(scratch, collider, &PlainSearch(collider), drug, screw, tol)
-        }
+        None => by_motion(scratch, collider, &PlainSearch(collider), drug, screw, tol),
     };
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
         Ok(mut scratch) => run(&mut scratch),
         // Re-entered from inside a query (never, today): fresh buffers.
         Err(_) => run(&mut Scratch::default()),
     })
+}
+
+/// [`swept_with`] for the kind of motion `screw` is: a translation gets
+/// its own copy of the search, with every branch between the two kinds of
+/// motion decided at compile time.
+#[inline(always)]
+fn by_motion<S: Search>(
+    scratch: &mut Scratch,
+    collider: &Collider,
+    search: &S,
+    drug: &DrugAtoms,
+    screw: &Screw,
+    tol: f64,
+) -> TouchResult {
+    if screw.is_translation() {
+        swept_with::<true, S>(scratch, collider, search, drug, screw, tol)
+    } else {
+        swept_with::<false, S>(scratch, collider, search, drug, screw, tol)
+    }
 }
 
 /// Working buffers of [`swept`], kept per thread so a query allocates
