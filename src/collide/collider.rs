@@ -21,7 +21,8 @@
 //!   scans one contiguous run of atoms per row, as in the full grid. Distinct
 //!   rows can share buckets, so each stored atom keeps its cell coordinates
 //!   and a scan reports only the atoms of the row's own cells: no atom
-//!   twice, no far atom.
+//!   twice, no far atom. It keeps padded rows too, in a hash table of the
+//!   same kind sized from their entries.
 //!
 //! The cell edges derive from the largest contact distance a receptor atom
 //! can have with a drug atom as large as itself. Queries
@@ -116,8 +117,8 @@ pub struct Collider {
     /// so a bucket scan keeps just the atoms of the cell asked for.
     cells: Vec<[i32; 3]>,
     index: Index,
-    /// The full grid's atoms again in padded rows, for balls up to their
-    /// margin (see [`PaddedRows`]): full grid only, built on the
+    /// The grid's atoms again in padded rows, for balls up to their
+    /// margin (see [`PaddedRows`]): both grids, built on the
     /// clearance map's thread before the map; queries use the plain grid
     /// until they are there, with the same answers.
     rows: Arc<OnceLock<Option<PaddedRows>>>,
@@ -392,8 +393,8 @@ impl Collider {
         let rows = Arc::new(OnceLock::new());
         // The rows serve balls of a drug atom's reach over one interval
         // (its radius less the smallest allowance, plus the largest receptor
-        // radius and the interval's sweep); the hashed grid has none (its
-        // rows are a hash table's runs).
+        // radius and the interval's sweep); each grid keeps them in a table
+        // of its own kind (dense over the box, or hashed).
         let row_margin = (max_radius + ROW_DRUG_RADIUS - rule.min_allowance()).max(1.0) + ROW_SLACK;
         let row_edge = GRID_EDGE.x * cell;
         match kind {
@@ -402,10 +403,7 @@ impl Collider {
                 let _ = rows.set(None);
             }
             ColliderKind::Grid | ColliderKind::Hashed => {
-                let padded = kind == ColliderKind::Grid;
-                if !padded {
-                    let _ = rows.set(None);
-                }
+                let hashed = kind == ColliderKind::Hashed;
                 // The map takes longer to build than the grid (40 ms for
                 // 1.3k atoms, over a second for 272k), the rows up to a
                 // tenth of that; the session builds a collider in the frame
@@ -417,20 +415,16 @@ impl Collider {
                     .spawn(move || {
                         // Each set even if its build panicked, so nobody
                         // waits forever.
-                        if padded {
-                            let built = std::panic::catch_unwind(|| {
-                                PaddedRows::build(&copy, row_margin, row_edge)
-                            });
-                            let _ = rows_slot.set(built.ok().flatten());
-                        }
+                        let built = std::panic::catch_unwind(|| {
+                            PaddedRows::build(&copy, row_margin, row_edge, hashed)
+                        });
+                        let _ = rows_slot.set(built.ok().flatten());
                         let map = std::panic::catch_unwind(|| Clearance::build(&copy));
                         let _ = map_slot.set(map.ok().flatten());
                     });
                 if spawned.is_err() {
                     // No thread to be had: build them here.
-                    if padded {
-                        let _ = rows.set(PaddedRows::build(&atoms, row_margin, row_edge));
-                    }
+                    let _ = rows.set(PaddedRows::build(&atoms, row_margin, row_edge, hashed));
                     let _ = clearance.set(Clearance::build(&atoms));
                 }
             }
@@ -487,15 +481,15 @@ impl Collider {
         self.clearance.get().and_then(Option::as_ref)
     }
 
-    /// Whether the full grid's padded rows are built (never for the other
-    /// kinds, nor for a receptor too sparse for their limits).
+    /// Whether a grid's padded rows are built (never for brute force, nor
+    /// for a receptor too sparse for their limits).
     pub fn has_padded_rows(&self) -> bool {
         self.padded_rows().is_some()
     }
 
     /// Waits until the clearance map is built (at once for brute force),
-    /// so benchmarks time the queries as they run from then on. The full
-    /// grid's padded rows are built before the map, so they are there too.
+    /// so benchmarks time the queries as they run from then on. A grid's
+    /// padded rows are built before the map, so they are there too.
     pub fn wait_for_clearance(&self) -> Option<&Clearance> {
         self.clearance.wait().as_ref()
     }
@@ -568,8 +562,8 @@ impl Collider {
     /// the order is the storage order of each row's run.
     ///
     /// # Performance
-    /// The full grid answers a ball up to its padded rows' margin from
-    /// one run of one row. Each run of stored atoms is tested four at a time with the lanes
+    /// The grids answer a ball up to their padded rows' margin from one
+    /// run of one row (or two, where a hashed row wraps). Each run of stored atoms is tested four at a time with the lanes
     /// past its end masked off, so the cost per row of cells is nearly
     /// constant and free of mispredicted loop exits. The hashed grid's
     /// check that an atom belongs to the row (buckets are shared) is paid
@@ -586,7 +580,7 @@ impl Collider {
         }
     }
 
-    /// The full grid's padded rows, once built.
+    /// The grid's padded rows, once built.
     #[inline]
     pub(crate) fn padded_rows(&self) -> Option<&PaddedRows> {
         self.rows.get().and_then(Option::as_ref)
@@ -705,8 +699,7 @@ pub(crate) trait Search {
     fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, f: F);
 }
 
-/// The plain index: brute force, the full grid before its rows are built,
-/// the hashed grid.
+/// The plain index: brute force, a grid before its rows are built.
 pub(crate) struct PlainSearch<'a>(pub &'a Collider);
 
 impl Search for PlainSearch<'_> {
@@ -716,8 +709,8 @@ impl Search for PlainSearch<'_> {
     }
 }
 
-/// The full grid with its padded rows: balls up to their margin from the
-/// rows, larger ones from the plain grid.
+/// A grid with its padded rows: balls up to their margin from the rows,
+/// larger ones from the plain grid.
 pub(crate) struct RowSearch<'a> {
     /// The collider.
     pub collider: &'a Collider,
@@ -833,11 +826,11 @@ mod tests {
         assert!(cells.cover(Vec3::splat(1.0), Vec3::splat(0.0)).is_none());
     }
 
-    /// The full grid answers through its padded rows and, for balls past
+    /// The grids answer through their padded rows and, for balls past
     /// their margin or before they are built, through the plain grid: both
     /// must give brute force's atoms, each once, with the same `d²`.
     #[test]
-    fn full_grid_with_and_without_its_rows_is_brute_force() {
+    fn grids_with_and_without_their_rows_are_brute_force() {
         use crate::model::molecule::test_carbon;
         use crate::rng::Rng;
         use glam::DVec3;
@@ -850,9 +843,6 @@ mod tests {
         let mol = Molecule::new("blob", atoms, &pos);
         let rule = ContactRule::default();
         let brute = Collider::build(&mol, &rule, ColliderKind::Brute);
-        let grid = Collider::build(&mol, &rule, ColliderKind::Grid);
-        grid.wait_for_clearance();
-        let rows = grid.padded_rows().expect("padded rows");
         let sorted = |mut v: Vec<(u32, u32)>| {
             let n = v.len();
             v.sort_unstable();
@@ -860,26 +850,31 @@ mod tests {
             assert_eq!(v.len(), n, "an atom reported twice");
             v
         };
-        let (mut in_rows, mut past) = (0, 0);
-        for _ in 0..3000 {
-            let p = rng.in_box(DVec3::splat(22.0)).as_vec3();
-            let r = rng.range(0.0, 12.0) as f32;
-            let mut want = Vec::new();
-            brute.near(p, r, |_, m, d2| want.push((m, d2.to_bits())));
-            let mut plain = Vec::new();
-            grid.near_plain(p, r, |_, m, d2| plain.push((m, d2.to_bits())));
-            let mut both = Vec::new();
-            grid.near(p, r, |_, m, d2| both.push((m, d2.to_bits())));
-            let want = sorted(want);
-            assert_eq!(sorted(plain), want, "plain grid near {p} {r}");
-            assert_eq!(sorted(both), want, "grid near {p} {r}");
-            if r <= rows.margin() {
-                in_rows += 1;
-            } else {
-                past += 1;
+        for kind in [ColliderKind::Grid, ColliderKind::Hashed] {
+            let grid = Collider::build(&mol, &rule, kind);
+            grid.wait_for_clearance();
+            let rows = grid.padded_rows().expect("padded rows");
+            let (mut in_rows, mut past) = (0, 0);
+            for _ in 0..3000 {
+                let p = rng.in_box(DVec3::splat(22.0)).as_vec3();
+                let r = rng.range(0.0, 12.0) as f32;
+                let mut want = Vec::new();
+                brute.near(p, r, |_, m, d2| want.push((m, d2.to_bits())));
+                let mut plain = Vec::new();
+                grid.near_plain(p, r, |_, m, d2| plain.push((m, d2.to_bits())));
+                let mut both = Vec::new();
+                grid.near(p, r, |_, m, d2| both.push((m, d2.to_bits())));
+                let want = sorted(want);
+                assert_eq!(sorted(plain), want, "{kind:?} plain near {p} {r}");
+                assert_eq!(sorted(both), want, "{kind:?} near {p} {r}");
+                if r <= rows.margin() {
+                    in_rows += 1;
+                } else {
+                    past += 1;
+                }
             }
+            assert!(in_rows > 500 && past > 500, "{kind:?} {in_rows} {past}");
         }
-        assert!(in_rows > 500 && past > 500, "{in_rows} {past}");
     }
 
     /// A few atoms spread widely: the hashed table is 64 buckets, so rows

@@ -17,9 +17,17 @@
 //! coordinates are kept four entries to a block, x, y and z in lanes: kept
 //! in three separate arrays instead, the rows made 1rx1's surface queries
 //! 5 % slower than the plain grid rather than faster.
+//!
+//! The full grid finds a (row, x cell)'s run of entries in a dense table
+//! over the box ([`Buckets::Dense`]); the hashed grid in a hash table sized
+//! from the number of entries, a row's x cells in consecutive buckets as in
+//! its own table ([`Buckets::Hashed`]), each entry tagged with its row so a
+//! query skips the entries of other rows that share its buckets.
 
 use glam::{Vec3, Vec4};
 use wide::f32x4;
+
+use super::collider::hash_cell;
 
 /// Most stored copies of atoms (16 bytes each: x, y, z and the atom's
 /// storage slot): 64 MiB, as the clearance map's limit.
@@ -48,14 +56,35 @@ pub struct PaddedRows {
     dims: [i32; 3],
     /// Largest ball radius the rows answer for.
     margin: f32,
-    /// Start of each (row, x cell)'s run of entries, rows z-major, x
-    /// fastest; one extra entry at the end.
+    /// Start of each bucket's run of entries (see [`Buckets`]); one extra
+    /// entry at the end.
     start: Vec<u32>,
+    /// How a (row, x cell) finds its bucket.
+    buckets: Buckets,
     /// The entries' coordinates, [`LANES`] to a block (x, y, z lanes), the
     /// last block padded.
     blocks: Vec<[f32x4; 3]>,
     /// The collider's storage slot of each entry.
     slot: Vec<u32>,
+}
+
+/// How a (row, x cell) finds its bucket of [`PaddedRows`]'s runs.
+#[derive(Debug, Clone)]
+pub enum Buckets {
+    /// One bucket per (row, x cell), rows z-major, x fastest (the full
+    /// grid).
+    Dense,
+    /// Hashed (the hashed grid): row `(y, z)`'s cell `x` in bucket
+    /// `(row_hash(y, z) + x) & mask`, so a row's cells are consecutive
+    /// buckets (wrapping at the table's end). Buckets hold entries of
+    /// other rows too: `rows` tags each entry with its row's index
+    /// `z · ny + y`.
+    Hashed {
+        /// Table size less one (a power of two less one).
+        mask: u32,
+        /// Row index of each entry.
+        rows: Vec<u32>,
+    },
 }
 
 /// An atom's x cell and the first and last of its rows along y and z.
@@ -74,15 +103,21 @@ fn cell_of(x: f32, origin: f32, inv: f32) -> i32 {
 
 impl PaddedRows {
     /// Rows over `atoms` (centre and radius, the collider's storage order)
-    /// for balls of radius up to `margin`, with x cells of `x_edge` Å; `None`
-    /// for no atoms, or when even the coarsest spacing would exceed the
-    /// limits.
-    pub fn build(atoms: &[Vec4], margin: f32, x_edge: f32) -> Option<Self> {
-        Self::build_within(atoms, margin, x_edge, MAX_ENTRIES)
+    /// for balls of radius up to `margin`, with x cells of `x_edge` Å, in a
+    /// dense table (`hashed` false) or a hash table; `None` for no atoms,
+    /// or when even the coarsest spacing would exceed the limits.
+    pub fn build(atoms: &[Vec4], margin: f32, x_edge: f32, hashed: bool) -> Option<Self> {
+        Self::build_within(atoms, margin, x_edge, hashed, MAX_ENTRIES)
     }
 
     /// [`PaddedRows::build`] with at most `max_entries` copies.
-    fn build_within(atoms: &[Vec4], margin: f32, x_edge: f32, max_entries: usize) -> Option<Self> {
+    fn build_within(
+        atoms: &[Vec4],
+        margin: f32,
+        x_edge: f32,
+        hashed: bool,
+        max_entries: usize,
+    ) -> Option<Self> {
         if atoms.is_empty() || !(margin > 0.0 && x_edge > 0.0) {
             return None;
         }
@@ -108,7 +143,16 @@ impl PaddedRows {
         for &e in &SPACINGS {
             let inv_e = 1.0 / e;
             let (ny, nz) = (count(extent.y, e), count(extent.z, e));
-            if nx.saturating_mul(ny).saturating_mul(nz) > MAX_CELLS {
+            // A hash table's size comes from the entries and the row
+            // length, not the box; its row tags (`z · ny + y`) stay within
+            // an i32.
+            let cells = nx.saturating_mul(ny).saturating_mul(nz);
+            let too_big = if hashed {
+                nx > max_entries as u64 || ny.saturating_mul(nz) > i32::MAX as u64
+            } else {
+                cells > MAX_CELLS
+            };
+            if too_big {
                 continue;
             }
             let dims = [nx as i32, ny as i32, nz as i32];
@@ -133,8 +177,27 @@ impl PaddedRows {
             if entries > max_entries as u64 {
                 continue;
             }
-            let key = |ix: i32, iy: i32, iz: i32| ((iz * dims[1] + iy) * dims[0] + ix) as usize;
-            let cells = (nx * ny * nz) as usize;
+            // A hash table of at least one bucket per entry (and per x cell,
+            // so no row's buckets overlap themselves): the (row, x cell)s
+            // holding entries, some twenty entries each inside a protein,
+            // then rarely share a bucket.
+            let size = (entries as usize)
+                .max(nx as usize)
+                .next_power_of_two()
+                .max(64);
+            let buckets = if hashed {
+                Buckets::Hashed {
+                    mask: (size - 1) as u32,
+                    rows: Vec::new(),
+                }
+            } else {
+                Buckets::Dense
+            };
+            let key = |ix: i32, iy: i32, iz: i32| match &buckets {
+                Buckets::Dense => ((iz * dims[1] + iy) * dims[0] + ix) as usize,
+                Buckets::Hashed { mask, .. } => hash_cell(ix, iy, iz, *mask) as usize,
+            };
+            let cells = if hashed { size } else { cells as usize };
             let mut start = vec![0u32; cells + 1];
             for &(ix, (y0, y1), (z0, z1)) in &homes {
                 for iz in z0..=z1 {
@@ -149,15 +212,24 @@ impl PaddedRows {
             let total = start[cells] as usize;
             let mut fill = start.clone();
             let mut slot = vec![0u32; total];
+            let mut tags = vec![0u32; if hashed { total } else { 0 }];
             for (s, &(ix, (y0, y1), (z0, z1))) in homes.iter().enumerate() {
                 for iz in z0..=z1 {
                     for iy in y0..=y1 {
                         let k = key(ix, iy, iz);
-                        slot[fill[k] as usize] = s as u32;
+                        let e = fill[k] as usize;
+                        slot[e] = s as u32;
+                        if let Some(t) = tags.get_mut(e) {
+                            *t = (iz * dims[1] + iy) as u32;
+                        }
                         fill[k] += 1;
                     }
                 }
             }
+            let buckets = match buckets {
+                Buckets::Dense => Buckets::Dense,
+                Buckets::Hashed { mask, .. } => Buckets::Hashed { mask, rows: tags },
+            };
             let blocks = slot
                 .chunks(LANES)
                 .map(|c| {
@@ -176,6 +248,7 @@ impl PaddedRows {
                 dims,
                 margin,
                 start,
+                buckets,
                 blocks,
                 slot,
             });
@@ -218,20 +291,52 @@ impl PaddedRows {
             return;
         }
         let (iy, iz) = (a[1].clamp(0, ny - 1), a[2].clamp(0, nz - 1));
-        let row = ((iz * ny + iy) * nx) as usize;
-        let (lo, hi) = (
-            self.start[row + x0 as usize] as usize,
-            self.start[row + x1 as usize + 1] as usize,
+        let ball = (
+            [p.x, p.y, p.z].map(f32x4::splat),
+            f32x4::splat(radius * radius),
         );
+        match &self.buckets {
+            Buckets::Dense => {
+                let row = ((iz * ny + iy) * nx) as usize;
+                let (lo, hi) = (
+                    self.start[row + x0 as usize] as usize,
+                    self.start[row + x1 as usize + 1] as usize,
+                );
+                self.scan(lo, hi, ball, |_| true, &mut f);
+            }
+            Buckets::Hashed { mask, rows } => {
+                let row = (iz * ny + iy) as u32;
+                let size = *mask as usize + 1;
+                let h0 = hash_cell(x0, iy, iz, *mask) as usize;
+                let h1 = h0 + (x1 - x0 + 1) as usize;
+                // The row's buckets up to the table's end, then, only when
+                // they wrap, those from its start (the build makes the
+                // table at least as large as a row is long).
+                let keep = |e: usize| rows.get(e) == Some(&row);
+                let (lo, hi) = (self.start[h0] as usize, self.start[h1.min(size)] as usize);
+                self.scan(lo, hi, ball, keep, &mut f);
+                if h1 > size {
+                    let hi = self.start[h1 - size] as usize;
+                    self.scan(0, hi, ball, keep, &mut f);
+                }
+            }
+        }
+    }
+
+    /// Tests entries `lo..hi` against the ball (centre in lanes, squared
+    /// radius) and calls `f(slot, d²)` for those inside that `keep`.
+    #[inline(always)]
+    fn scan(
+        &self,
+        lo: usize,
+        hi: usize,
+        ([px, py, pz], r2): ([f32x4; 3], f32x4),
+        keep_entry: impl Fn(usize) -> bool,
+        f: &mut impl FnMut(usize, f32),
+    ) {
         if lo >= hi {
             return;
         }
-        let (px, py, pz, r2) = (
-            f32x4::splat(p.x),
-            f32x4::splat(p.y),
-            f32x4::splat(p.z),
-            f32x4::splat(radius * radius),
-        );
         // Whole blocks, the lanes before `lo` and from `hi` on masked off.
         let last = (hi - 1) / LANES;
         let mut blk = lo / LANES;
@@ -251,7 +356,10 @@ impl PaddedRows {
                 while hits != 0 {
                     let l = hits.trailing_zeros() as usize;
                     hits &= hits - 1;
-                    if let Some(&s) = self.slot.get(LANES * blk + l) {
+                    let e = LANES * blk + l;
+                    if let Some(&s) = self.slot.get(e)
+                        && keep_entry(e)
+                    {
                         f(s as usize, d2[l]);
                     }
                 }
@@ -315,10 +423,11 @@ mod tests {
     #[test]
     fn near_reports_exactly_the_atoms_in_the_ball_each_once() {
         let mut rng = Rng(5);
-        for round in 0..6 {
-            let atoms = atoms(&mut rng, 200 + 150 * round);
+        for round in 0..12 {
+            let atoms = atoms(&mut rng, 200 + 75 * round);
             let margin = rng.range(2.5, 4.5) as f32;
-            let rows = PaddedRows::build(&atoms, margin, 1.5).expect("rows");
+            let hashed = round % 2 == 1;
+            let rows = PaddedRows::build(&atoms, margin, 1.5, hashed).expect("rows");
             for _ in 0..3000 {
                 // Inside, around and well outside the atoms' box.
                 let p = rng.in_box(DVec3::splat(45.0)).as_vec3();
@@ -343,37 +452,102 @@ mod tests {
     fn a_coarser_spacing_keeps_the_copies_within_the_limit() {
         let mut rng = Rng(9);
         let atoms = atoms(&mut rng, 400);
-        let fine = PaddedRows::build(&atoms, 3.75, 1.5).expect("rows");
-        let limit = fine.entries() / 3;
-        let coarse = PaddedRows::build_within(&atoms, 3.75, 1.5, limit).expect("coarser rows");
-        assert!(coarse.entries() <= limit, "{} > {limit}", coarse.entries());
-        assert!(PaddedRows::build_within(&atoms, 3.75, 1.5, atoms.len()).is_none());
-        for _ in 0..2000 {
-            let p = rng.in_box(DVec3::splat(40.0)).as_vec3();
-            let radius = rng.range(0.0, 3.75) as f32;
-            assert_eq!(found(&coarse, p, radius), brute(&atoms, p, radius));
+        for hashed in [false, true] {
+            let fine = PaddedRows::build(&atoms, 3.75, 1.5, hashed).expect("rows");
+            let limit = fine.entries() / 3;
+            let coarse =
+                PaddedRows::build_within(&atoms, 3.75, 1.5, hashed, limit).expect("coarser rows");
+            assert!(coarse.entries() <= limit, "{} > {limit}", coarse.entries());
+            let few = PaddedRows::build_within(&atoms, 3.75, 1.5, hashed, atoms.len());
+            assert!(few.is_none());
+            for _ in 0..2000 {
+                let p = rng.in_box(DVec3::splat(40.0)).as_vec3();
+                let radius = rng.range(0.0, 3.75) as f32;
+                assert_eq!(found(&coarse, p, radius), brute(&atoms, p, radius));
+            }
         }
+    }
+
+    /// A few atoms spread along x: their rows' (row, x cell)s nearly fill
+    /// the table, so runs share buckets with other rows and some wrap at
+    /// the table's end; a query still reports exactly the atoms in its
+    /// ball, each once.
+    #[test]
+    fn hashed_rows_that_share_and_wrap_buckets_report_each_atom_once() {
+        let mut rng = Rng(17);
+        let atoms: Vec<Vec4> = (0..40)
+            .map(|_| {
+                let c = rng.in_box(DVec3::new(120.0, 9.0, 9.0));
+                c.as_vec3().extend(1.7)
+            })
+            .collect();
+        let rows = PaddedRows::build(&atoms, 3.0, 1.5, true).expect("rows");
+        let Buckets::Hashed { mask, .. } = &rows.buckets else {
+            panic!("hashed buckets");
+        };
+        let size = *mask as usize + 1;
+        let (mut wrapped, mut shared) = (0, 0);
+        for _ in 0..20_000 {
+            let p = rng.in_box(DVec3::new(125.0, 12.0, 12.0)).as_vec3();
+            let radius = rng.range(0.0, 3.0) as f32;
+            let want = brute(&atoms, p, radius);
+            assert_eq!(found(&rows, p, radius), want, "{p} {radius}");
+            // Count the queries whose buckets wrap, and those whose run
+            // holds entries of other rows.
+            let cell = |v: f32, o: usize| {
+                let inv = rows.inv.to_array()[o];
+                let origin = rows.origin.to_array()[o];
+                cell_of(v, origin, inv)
+            };
+            let (x0, x1) = (
+                cell(p.x - radius, 0).max(0),
+                cell(p.x + radius, 0).min(rows.dims[0] - 1),
+            );
+            let (iy, iz) = (
+                cell(p.y, 1).clamp(0, rows.dims[1] - 1),
+                cell(p.z, 2).clamp(0, rows.dims[2] - 1),
+            );
+            if x0 <= x1 {
+                let h0 = hash_cell(x0, iy, iz, *mask) as usize;
+                let h1 = h0 + (x1 - x0 + 1) as usize;
+                wrapped += usize::from(h1 > size);
+                let Buckets::Hashed { rows: tags, .. } = &rows.buckets else {
+                    unreachable!()
+                };
+                let row = (iz * rows.dims[1] + iy) as u32;
+                let (a, b) = (rows.start[h0] as usize, rows.start[h1.min(size)] as usize);
+                shared += usize::from(tags[a..b].iter().any(|&t| t != row));
+            }
+        }
+        assert!(
+            wrapped > 20 && shared > 500,
+            "{wrapped} wrapped, {shared} shared"
+        );
     }
 
     #[test]
     fn odd_input_gives_no_rows_or_no_atoms() {
         let one = [Vec4::new(1.0, 2.0, 3.0, 1.7)];
-        assert!(PaddedRows::build(&[], 3.0, 1.5).is_none());
-        assert!(PaddedRows::build(&one, 0.0, 1.5).is_none());
-        assert!(PaddedRows::build(&one, f32::NAN, 1.5).is_none());
-        let far = [one[0], Vec4::new(f32::INFINITY, 0.0, 0.0, 1.7)];
-        assert!(PaddedRows::build(&far, 3.0, 1.5).is_none());
-        // Atoms too far apart for the cell limit at any spacing.
-        let spread = [
-            Vec4::new(-3e5, -3e5, -3e5, 1.7),
-            Vec4::new(3e5, 3e5, 3e5, 1.7),
-        ];
-        assert!(PaddedRows::build(&spread, 3.0, 1.5).is_none());
-        let rows = PaddedRows::build(&one, 3.0, 1.5).expect("one atom");
-        assert_eq!(found(&rows, Vec3::new(1.0, 2.0, 3.0), 0.0).len(), 1);
-        assert!(found(&rows, Vec3::NAN, 3.0).is_empty());
-        assert!(found(&rows, Vec3::splat(1e30), 3.0).is_empty());
-        assert!(found(&rows, Vec3::new(1.0, 2.0, 6.01), 3.0).is_empty());
-        assert_eq!(found(&rows, Vec3::new(1.0, 2.0, 5.99), 3.0).len(), 1);
+        for hashed in [false, true] {
+            let build = |atoms: &[Vec4], margin| PaddedRows::build(atoms, margin, 1.5, hashed);
+            assert!(build(&[], 3.0).is_none());
+            assert!(build(&one, 0.0).is_none());
+            assert!(build(&one, f32::NAN).is_none());
+            let far = [one[0], Vec4::new(f32::INFINITY, 0.0, 0.0, 1.7)];
+            assert!(build(&far, 3.0).is_none());
+            // Atoms too far apart for the limits at any spacing (cells, or
+            // a hashed row's length).
+            let spread = [
+                Vec4::new(-3e7, -3e5, -3e5, 1.7),
+                Vec4::new(3e7, 3e5, 3e5, 1.7),
+            ];
+            assert!(build(&spread, 3.0).is_none());
+            let rows = build(&one, 3.0).expect("one atom");
+            assert_eq!(found(&rows, Vec3::new(1.0, 2.0, 3.0), 0.0).len(), 1);
+            assert!(found(&rows, Vec3::NAN, 3.0).is_empty());
+            assert!(found(&rows, Vec3::splat(1e30), 3.0).is_empty());
+            assert!(found(&rows, Vec3::new(1.0, 2.0, 6.01), 3.0).is_empty());
+            assert_eq!(found(&rows, Vec3::new(1.0, 2.0, 5.99), 3.0).len(), 1);
+        }
     }
 }

@@ -97,7 +97,7 @@ fn pairs_among(
 /// the last.
 pub(super) fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> TouchResult {
     // One copy of the search for each way of asking the collider (with the
-    // full grid's padded rows or without), so each carries one search.
+    // grid's padded rows or without), so each carries one search.
     let run = |scratch: &mut Scratch| match collider.padded_rows() {
         Some(rows) => by_motion(
             scratch,
