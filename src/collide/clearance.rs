@@ -20,7 +20,7 @@
 //! the atoms' reach): on a drug approaching a receptor's surface most
 //! groups are that far from it, and one test then stands for four atoms'.
 //!
-//! The lattice spacing is [`FINEST`] (0.25 Å) unless that would take more
+//! The lattice spacing is 0.25 Å (`FINEST`) unless that would take more
 //! than [`MAX_VERTICES`] vertices (one byte each); larger receptors get a
 //! coarser lattice, which proves less but stays correct. The map is filled by
 //! every core, slabs of planes at a time, on the collider's own thread, so
