@@ -1,7 +1,7 @@
 //! Collision detection between a receptor and a drug made of spheres.
 //!
 //! [`rule`] says when two atoms collide; [`collider`] indexes the receptor
-//! (brute force, full grid or hashed grid; the full grid also in
+//! (brute force, full grid or hashed grid; the grids also in
 //! [`padded_rows`]) and keeps a [`clearance`] map of the space around it;
 //! [`mod@check`] answers static queries; [`sweep`] moves the drug to touch
 //! without tunnelling; [`response`] turns a proposed step into the

@@ -1,7 +1,7 @@
-//! Padded rows: the full grid's atoms again, in rows of cells that
-//! overlap, so that the ball of a drug atom's reach lies in one row.
+//! Padded rows: a grid's atoms again, in rows of cells that overlap, so
+//! that the ball of a drug atom's reach lies in one row.
 //!
-//! The full grid ([`super::collider`]) stores each atom once and a query
+//! A grid ([`super::collider`]) stores each atom once and a query
 //! scans one run of atoms for each row of cells (a line of cells along x)
 //! that its ball's box covers: five or six rows for a drug atom's reach,
 //! each with its own bounds, loop and exit. Here the rows lie on a finer y-z
