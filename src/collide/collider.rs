@@ -826,21 +826,23 @@ mod tests {
         assert!(cells.cover(Vec3::splat(1.0), Vec3::splat(0.0)).is_none());
     }
 
+    /// `n` carbon atoms at random in the box `±half`.
+    fn random_carbons(rng: &mut crate::rng::Rng, n: i64, half: glam::DVec3) -> Molecule {
+        use crate::model::molecule::test_carbon;
+        let atoms = (1..=n).map(test_carbon).collect();
+        let pos: Vec<glam::DVec3> = (0..n).map(|_| rng.in_box(half)).collect();
+        Molecule::new("random carbons", atoms, &pos)
+    }
+
     /// The grids answer through their padded rows and, for balls past
     /// their margin or before they are built, through the plain grid: both
     /// must give brute force's atoms, each once, with the same `d²`.
     #[test]
     fn grids_with_and_without_their_rows_are_brute_force() {
-        use crate::model::molecule::test_carbon;
         use crate::rng::Rng;
         use glam::DVec3;
         let mut rng = Rng(23);
-        let n: i64 = 600;
-        let atoms = (1..=n).map(test_carbon).collect();
-        let pos: Vec<DVec3> = (0..n)
-            .map(|_| rng.in_box(DVec3::new(14.0, 10.0, 12.0)))
-            .collect();
-        let mol = Molecule::new("blob", atoms, &pos);
+        let mol = random_carbons(&mut rng, 600, DVec3::new(14.0, 10.0, 12.0));
         let rule = ContactRule::default();
         let brute = Collider::build(&mol, &rule, ColliderKind::Brute);
         let sorted = |mut v: Vec<(u32, u32)>| {
@@ -878,23 +880,21 @@ mod tests {
     }
 
     /// A few atoms spread widely: the hashed table is 64 buckets, so rows
-    /// share buckets and wrap at the table's end. `near` must still give
-    /// brute force's atoms and `visit` every atom of the box once.
+    /// share buckets and wrap at the table's end. The plain table's search
+    /// (and, once they are built, the padded rows') must still give brute
+    /// force's atoms and `visit` every atom of the box once.
     #[test]
     fn hashed_rows_that_share_and_wrap_buckets_report_each_atom_once() {
-        use crate::model::molecule::test_carbon;
         use crate::rng::Rng;
         use glam::DVec3;
         let mut rng = Rng(11);
-        let n: i64 = 12;
-        let atoms = (1..=n).map(test_carbon).collect();
-        let pos: Vec<DVec3> = (0..n)
-            .map(|_| rng.in_box(DVec3::new(40.0, 6.0, 6.0)))
-            .collect();
-        let mol = Molecule::new("wide", atoms, &pos);
+        let mol = random_carbons(&mut rng, 12, DVec3::new(40.0, 6.0, 6.0));
         let rule = ContactRule::default();
         let brute = Collider::build(&mol, &rule, ColliderKind::Brute);
         let hashed = Collider::build(&mol, &rule, ColliderKind::Hashed);
+        // Queries below ask the plain table and the rows explicitly, so
+        // neither depends on when the rows' thread finishes.
+        hashed.wait_for_clearance();
         let Index::Hashed { mask, .. } = &hashed.index else {
             panic!("hashed index");
         };
@@ -903,13 +903,17 @@ mod tests {
         for _ in 0..2000 {
             let p = rng.in_box(DVec3::new(45.0, 8.0, 8.0)).as_vec3();
             let r = rng.range(0.5, 30.0) as f32;
-            let found = |c: &Collider| {
-                let mut v = Vec::new();
-                c.near(p, r, |_, m, d2| v.push((m, d2.to_bits())));
+            let sorted = |mut v: Vec<(u32, u32)>| {
                 v.sort_unstable();
                 v
             };
-            assert_eq!(found(&hashed), found(&brute), "near {p} {r}");
+            let (mut want, mut plain, mut near) = (Vec::new(), Vec::new(), Vec::new());
+            brute.near(p, r, |_, m, d2| want.push((m, d2.to_bits())));
+            hashed.near_plain(p, r, |_, m, d2| plain.push((m, d2.to_bits())));
+            hashed.near(p, r, |_, m, d2| near.push((m, d2.to_bits())));
+            let want = sorted(want);
+            assert_eq!(sorted(plain), want, "plain near {p} {r}");
+            assert_eq!(sorted(near), want, "near {p} {r}");
             let (lo, hi) = (p - Vec3::splat(r), p + Vec3::splat(r));
             let mut seen = Vec::new();
             hashed.visit(lo, hi, |_, m| seen.push(m));

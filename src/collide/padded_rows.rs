@@ -77,13 +77,13 @@ pub enum Buckets {
     /// Hashed (the hashed grid): row `(y, z)`'s cell `x` in bucket
     /// `(row_hash(y, z) + x) & mask`, so a row's cells are consecutive
     /// buckets (wrapping at the table's end). Buckets hold entries of
-    /// other rows too: `rows` tags each entry with its row's index
+    /// other rows too: `row_of` tags each entry with its row's index
     /// `z · ny + y`.
     Hashed {
         /// Table size less one (a power of two less one).
         mask: u32,
         /// Row index of each entry.
-        rows: Vec<u32>,
+        row_of: Vec<u32>,
     },
 }
 
@@ -188,7 +188,7 @@ impl PaddedRows {
             let buckets = if hashed {
                 Buckets::Hashed {
                     mask: (size - 1) as u32,
-                    rows: Vec::new(),
+                    row_of: Vec::new(),
                 }
             } else {
                 Buckets::Dense
@@ -228,7 +228,7 @@ impl PaddedRows {
             }
             let buckets = match buckets {
                 Buckets::Dense => Buckets::Dense,
-                Buckets::Hashed { mask, .. } => Buckets::Hashed { mask, rows: tags },
+                Buckets::Hashed { mask, .. } => Buckets::Hashed { mask, row_of: tags },
             };
             let blocks = slot
                 .chunks(LANES)
@@ -304,7 +304,7 @@ impl PaddedRows {
                 );
                 self.scan(lo, hi, ball, |_| true, &mut f);
             }
-            Buckets::Hashed { mask, rows } => {
+            Buckets::Hashed { mask, row_of } => {
                 let row = (iz * ny + iy) as u32;
                 let size = *mask as usize + 1;
                 let h0 = hash_cell(x0, iy, iz, *mask) as usize;
@@ -312,7 +312,7 @@ impl PaddedRows {
                 // The row's buckets up to the table's end, then, only when
                 // they wrap, those from its start (the build makes the
                 // table at least as large as a row is long).
-                let keep = |e: usize| rows.get(e) == Some(&row);
+                let keep = |e: usize| row_of.get(e) == Some(&row);
                 let (lo, hi) = (self.start[h0] as usize, self.start[h1.min(size)] as usize);
                 self.scan(lo, hi, ball, keep, &mut f);
                 if h1 > size {
@@ -511,7 +511,7 @@ mod tests {
                 let h0 = hash_cell(x0, iy, iz, *mask) as usize;
                 let h1 = h0 + (x1 - x0 + 1) as usize;
                 wrapped += usize::from(h1 > size);
-                let Buckets::Hashed { rows: tags, .. } = &rows.buckets else {
+                let Buckets::Hashed { row_of: tags, .. } = &rows.buckets else {
                     unreachable!()
                 };
                 let row = (iz * rows.dims[1] + iy) as u32;

@@ -346,8 +346,8 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
                     // the built-in E's paths through the rings took 8 % more
                     // instructions, 5 % with this limit). A drug inside the
                     // box is tested too: on the large receptors' surfaces
-                    // (inside their boxes) that took 3–10 % off a query,
-                    // in DHFR's pocket it added 3 %.
+                    // (inside their boxes) that took 3–10 % off a query's
+                    // instructions; in DHFR's pocket it added 3 %.
                     if todo.count_ones() > 1
                         && let Some(map) = clearance
                     {
