@@ -551,6 +551,25 @@ fn bench_writes_a_report_with_figures_and_keeps_the_manual_sections() {
         assert!(text.contains("trimethoprim into DHFR") && text.contains("| 1rx1.pdb | 1317 |"));
         assert!(dir.join("bench/scaling.svg").is_file());
     }
+    // The alternated comparison with parry3d: its table with the feature,
+    // a line saying how to add it without.
+    let versus = text
+        .split("## bump against parry3d on surface approaches, timed alternately")
+        .nth(1)
+        .expect("no section comparing with parry3d");
+    if cfg!(feature = "parry") {
+        if common::shared_pdb().is_some() {
+            let row = versus
+                .lines()
+                .find(|l| l.starts_with("| 1rx1.pdb | 1317 |"))
+                .expect("no 1rx1 row");
+            // 14 cells; bump's overlapping count is zero.
+            assert_eq!(row.matches('|').count(), 15, "{row}");
+            assert!(row.contains("| 0 / "), "{row}");
+        }
+    } else {
+        assert!(versus.contains("Not in this run"), "{versus}");
+    }
     assert!(stderr(&run).contains("[#"), "no progress bar");
     // A report without the marker may be hand-written: refused, left alone.
     let other = dir.join("notes.md");

@@ -6,7 +6,9 @@
 //!
 //! parry3d is a dev-dependency of the library; the binary compares against it
 //! only when built with `--features parry` (it then becomes a normal optional
-//! dependency). Criterion benches (`cargo bench --bench collide`) time the same
+//! dependency), adding parry3d's columns to the run-time-against-error tables
+//! and a section timing bump and parry3d alternately on the scaling
+//! queries (`versus`). Criterion benches (`cargo bench --bench collide`) time the same
 //! queries with statistics, for regressions.
 //!
 //! The part of an existing report below [`KEEP_MARKER`] is kept as it is:
@@ -21,6 +23,8 @@ mod surface;
 mod svg;
 mod table1;
 mod timing;
+#[cfg(feature = "parry")]
+mod versus;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -114,12 +118,16 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     };
     let kept = keep_manual(&args.out)?;
     let t0 = Instant::now();
-    let total =
-        accuracy::steps(&ctx) + scaling::steps(&ctx) + table1::steps(&ctx) + frames::steps(&ctx);
+    let total = accuracy::steps(&ctx)
+        + scaling::steps(&ctx)
+        + versus_steps(&ctx)
+        + table1::steps(&ctx)
+        + frames::steps(&ctx);
     let mut progress = timing::Progress::new(total);
     let sections = vec![
         accuracy::run(&ctx, &mut progress),
         scaling::run(&ctx, &mut progress),
+        versus(&ctx, &mut progress),
         table1::run(&ctx, &mut progress),
         frames::run(&ctx, &mut progress),
     ];
@@ -141,6 +149,34 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         figures.display()
     );
     Ok(())
+}
+
+/// Progress steps of the comparison with parry3d (none without it).
+fn versus_steps(ctx: &Context) -> usize {
+    #[cfg(feature = "parry")]
+    return versus::steps(ctx);
+    #[cfg(not(feature = "parry"))]
+    {
+        let _ = ctx;
+        0
+    }
+}
+
+/// bump against parry3d on the surface approaches, timed alternately; without
+/// `--features parry`, a line saying how to add it.
+fn versus(ctx: &Context, progress: &mut timing::Progress) -> Section {
+    #[cfg(feature = "parry")]
+    return versus::run(ctx, progress);
+    #[cfg(not(feature = "parry"))]
+    {
+        let _ = (ctx, progress);
+        Section::text(
+            "## bump against parry3d on surface approaches, timed alternately\n\n\
+             Not in this run (built without `--features parry`); \
+             `cargo run --release --features parry -- bench` adds it.\n"
+                .into(),
+        )
+    }
 }
 
 /// The kept tail of an existing report (from [`KEEP_MARKER`] on), or nothing

@@ -37,7 +37,7 @@ const DRUG_SIZES: [usize; 5] = [10, 20, 50, 100, 200];
 /// The receptor file the drug-size sweep uses.
 const DRUG_SWEEP_RECEPTOR: &str = "4kya.pdb.gz";
 
-fn receptors(ctx: &Context) -> &'static [&'static str] {
+pub(super) fn receptors(ctx: &Context) -> &'static [&'static str] {
     if ctx.quick {
         &RECEPTORS[..2]
     } else {
@@ -165,7 +165,7 @@ fn us(v: f64) -> String {
     }
 }
 
-fn load(dir: &Path, file: &str) -> Result<Molecule, String> {
+pub(super) fn load(dir: &Path, file: &str) -> Result<Molecule, String> {
     let l = model::load(&dir.join(file), &LoadOptions::default()).map_err(|e| e.to_string())?;
     model::receptor_only(&l.structure).map_err(|e| e.to_string())
 }
