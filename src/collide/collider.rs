@@ -524,16 +524,8 @@ impl Collider {
         match &self.index {
             Index::Brute => run(0, self.atoms.len(), &|_| true),
             Index::Grid { cells, dims, start } => {
-                let Some(([x0, y0, z0], [x1, y1, z1])) = cells.cover(lo, hi) else {
-                    return;
-                };
-                for z in z0..=z1 {
-                    for y in y0..=y1 {
-                        let row = ((z * dims[1] + y) * dims[0]) as usize;
-                        let a = start[row + x0 as usize] as usize;
-                        let b = start[row + x1 as usize + 1] as usize;
-                        run(a, b, &|_| true);
-                    }
+                if let Some((from, to)) = cells.cover(lo, hi) {
+                    grid_rows(start, *dims, from, to, |a, b| run(a, b, &|_| true));
                 }
             }
             Index::Hashed { cells, mask, start } => {
@@ -594,16 +586,10 @@ impl Collider {
         match &self.index {
             Index::Brute => self.scan(0, self.atoms.len(), p, r2, &mut f, |_| true),
             Index::Grid { cells, dims, start } => {
-                let Some(([x0, y0, z0], [x1, y1, z1])) = cells.cover(lo, hi) else {
-                    return;
-                };
-                for z in z0..=z1 {
-                    for y in y0..=y1 {
-                        let row = ((z * dims[1] + y) * dims[0]) as usize;
-                        let a = start[row + x0 as usize] as usize;
-                        let b = start[row + x1 as usize + 1] as usize;
+                if let Some((from, to)) = cells.cover(lo, hi) {
+                    grid_rows(start, *dims, from, to, |a, b| {
                         self.scan(a, b, p, r2, &mut f, |_| true);
-                    }
+                    });
                 }
             }
             Index::Hashed { cells, mask, start } => {
@@ -727,6 +713,29 @@ impl Search for RowSearch<'_> {
                 .near(p, radius, |s, d2| f(c.atoms[s], c.meta[s], d2));
         } else {
             c.near_plain(p, radius, f);
+        }
+    }
+}
+
+/// The full grid's rows of cells that the box of cells `x0..=x1`,
+/// `y0..=y1`, `z0..=z1` covers: `f(a, b)` with each row's run of stored
+/// atoms `a..b` (cells are stored with x fastest, so a row's cells are one
+/// run).
+#[inline(always)]
+fn grid_rows(
+    start: &[u32],
+    dims: [i32; 3],
+    [x0, y0, z0]: [i32; 3],
+    [x1, y1, z1]: [i32; 3],
+    mut f: impl FnMut(usize, usize),
+) {
+    for z in z0..=z1 {
+        for y in y0..=y1 {
+            let row = ((z * dims[1] + y) * dims[0]) as usize;
+            f(
+                start[row + x0 as usize] as usize,
+                start[row + x1 as usize + 1] as usize,
+            );
         }
     }
 }
