@@ -110,6 +110,30 @@ fn builtin_scene_docks_by_a_straight_push() {
     );
 }
 
+/// The smallest gap is reported however far the drug ends from the
+/// receptor (beyond the grid's 4 Å look-up every pair is measured): the E
+/// started 10 Å farther back along its approach ends 10 Å farther away,
+/// less the little its nearest pair's sideways offset takes off.
+#[test]
+fn touch_reports_the_smallest_gap_far_from_the_receptor() {
+    let gap = |start: &str| {
+        let v = json(&[
+            "touch", "builtin", "--start", start, "--move", "0,0,1", "--json",
+        ]);
+        assert_eq!(v["t"], 1.0);
+        let g = v["min_gap"].as_f64().expect("min_gap is a number");
+        assert!(v["nearest"].is_object(), "{v}");
+        g
+    };
+    let (near, far) = (gap("0,0,-100"), gap("0,0,-110"));
+    assert!(near > 100.0, "{near}");
+    let d = far - near;
+    assert!(d > 9.9 && d <= 10.0 + 1e-3, "{near} {far}");
+    let out = bump(&["touch", "builtin", "--start", "0,0,-100", "--move", "0,0,1"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains(&format!("smallest gap {near:.4}")), "{text}");
+}
+
 #[test]
 fn check_reports_serials_and_the_rule() {
     let Some(dir) = common::shared_pdb() else {

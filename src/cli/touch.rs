@@ -3,7 +3,9 @@
 
 use anyhow::Context;
 use bump::collide::sweep::MIN_TOLERANCE;
-use bump::collide::{Method, Response, TouchOptions};
+use bump::collide::{Method, Pair, Response, TouchOptions};
+use bump::motion::Pose;
+use bump::scene::Scene;
 use clap::Args;
 use glam::DVec3;
 use serde::Serialize;
@@ -15,7 +17,8 @@ use super::report::{
 use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed, within_range};
 use bump::motion::pose::PoseSummary;
 
-/// How far beyond contact the nearest-pair report looks, in Å.
+/// How far beyond contact the nearest-pair report looks first, in Å (the
+/// grid's usual search; beyond it every pair is measured).
 const NEAREST_WITHIN: f32 = 4.0;
 
 /// Arguments of `bump touch`.
@@ -96,6 +99,23 @@ struct TouchReport {
     elapsed_us: f64,
 }
 
+/// The pair nearest to contact with the drug at `pose` (relative to the
+/// receptor): looked for within [`NEAREST_WITHIN`] of contact first (the
+/// grid's usual search), else among every pair (a drug far from the
+/// receptor: a ball that holds the whole receptor from every drug atom).
+/// `None` only for an empty receptor or drug.
+fn nearest_pair(scene: &Scene, pose: &Pose) -> Option<Pair> {
+    let (collider, drug) = (scene.collider(), scene.drug_atoms());
+    bump::collide::min_gap(collider, drug, pose, NEAREST_WITHIN).or_else(|| {
+        let (lo, hi) = collider.bounds();
+        let c = pose.translation;
+        // The farthest any receptor atom's centre lies from any drug atom's.
+        let corner = (c - lo.as_dvec3()).abs().max((hi.as_dvec3() - c).abs());
+        let all = corner.length() + drug.extent + 1.0;
+        bump::collide::min_gap(collider, drug, pose, all as f32)
+    })
+}
+
 /// Says how a turn of more than half a revolution will run.
 fn warn_long_turn(turn: &Turn) {
     let degrees = turn.degrees;
@@ -169,12 +189,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     let (r, us) =
         timed(5, || scene.respond(&start, &end, args.response, &opts)).context("move-to-touch")?;
     let world = scene.world_from_relative(&r.pose);
-    let nearest = bump::collide::min_gap(
-        scene.collider(),
-        scene.drug_atoms(),
-        &r.pose,
-        NEAREST_WITHIN,
-    );
+    let nearest = nearest_pair(scene, &r.pose);
     let rep = |p| pair_reports(&scene.rule, &scene.receptor, &scene.drug, p);
     let report = TouchReport {
         receptor: molecule_report(&loaded.receptor_source, &scene.receptor),
@@ -259,7 +274,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     );
     match report.min_gap {
         Some(g) => outln!("smallest gap {g:.4} Å"),
-        None => outln!("no receptor atom within 4 Å of contact"),
+        None => outln!("no pair of atoms (an empty molecule)"),
     }
     let pairs = counted(report.contacts.len(), "pair");
     if report.step_rejected {
