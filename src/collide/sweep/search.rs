@@ -84,9 +84,16 @@ fn pairs_among(
             found.push((pair, within(d2, k.contact)));
         }
     }
-    found.sort_unstable_by_key(|(p, _)| (p.receptor, p.drug));
+    if found.len() > 1 {
+        found.sort_unstable_by_key(|(p, _)| (p.receptor, p.drug));
+    }
     let within = found.iter().map(|(p, _)| *p).collect();
-    let colliding = found.iter().filter(|(_, c)| *c).map(|(p, _)| *p).collect();
+    // Usually none collides (a stop in contact within tolerance): no pass.
+    let colliding = if found.iter().any(|(_, c)| *c) {
+        found.iter().filter(|(_, c)| *c).map(|(p, _)| *p).collect()
+    } else {
+        Vec::new()
+    };
     (within, colliding)
 }
 
