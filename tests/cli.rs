@@ -116,16 +116,30 @@ fn builtin_scene_docks_by_a_straight_push() {
 /// less the little its nearest pair's sideways offset takes off.
 #[test]
 fn touch_reports_the_smallest_gap_far_from_the_receptor() {
-    let gap = |start: &str| {
-        let v = json(&[
+    let gap_with = |start: &str, more: &[&str]| {
+        let mut args = vec![
             "touch", "builtin", "--start", start, "--move", "0,0,1", "--json",
-        ]);
+        ];
+        args.extend_from_slice(more);
+        let v = json(&args);
         assert_eq!(v["t"], 1.0);
         let g = v["min_gap"].as_f64().expect("min_gap is a number");
         assert!(v["nearest"].is_object(), "{v}");
         g
     };
+    let gap = |start: &str| gap_with(start, &[]);
     let (near, far) = (gap("0,0,-100"), gap("0,0,-110"));
+    // Every collider finds the same pair; under the largest overlap
+    // allowance its gap is 5 − 0.6 Å larger than under the default rule.
+    for collider in ["brute", "grid", "hashed"] {
+        assert_eq!(
+            gap_with("0,0,-100", &["--collider", collider]),
+            near,
+            "{collider}"
+        );
+    }
+    let loose = gap_with("0,0,-100", &["--overlap", "5"]);
+    assert!((loose - near - 4.4).abs() < 1e-3, "{near} {loose}");
     assert!(near > 100.0, "{near}");
     let d = far - near;
     assert!(d > 9.9 && d <= 10.0 + 1e-3, "{near} {far}");

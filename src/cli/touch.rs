@@ -109,9 +109,14 @@ fn nearest_pair(scene: &Scene, pose: &Pose) -> Option<Pair> {
     bump::collide::min_gap(collider, drug, pose, NEAREST_WITHIN).or_else(|| {
         let (lo, hi) = collider.bounds();
         let c = pose.translation;
-        // The farthest any receptor atom's centre lies from any drug atom's.
+        // The farthest any receptor atom's centre lies from any drug atom's,
+        // plus the most the rule can take off a contact distance (an
+        // overlap allowance beyond the two radii makes a gap exceed the
+        // centres' distance).
         let corner = (c - lo.as_dvec3()).abs().max((hi.as_dvec3() - c).abs());
-        let all = corner.length() + drug.extent + 1.0;
+        let rule = &scene.rule;
+        let allowance = f64::from(rule.overlap.max(0.0) + rule.hbond_allowance.max(0.0));
+        let all = corner.length() + drug.extent + allowance + 1.0;
         bump::collide::min_gap(collider, drug, pose, all as f32)
     })
 }

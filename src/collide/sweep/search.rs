@@ -88,7 +88,8 @@ fn pairs_among(
         found.sort_unstable_by_key(|(p, _)| (p.receptor, p.drug));
     }
     let within = found.iter().map(|(p, _)| *p).collect();
-    // Usually none collides (a stop in contact within tolerance): no pass.
+    // Usually none collides (a stop in contact within tolerance): then no
+    // second list to gather.
     let colliding = if found.iter().any(|(_, c)| *c) {
         found.iter().filter(|(_, c)| *c).map(|(p, _)| *p).collect()
     } else {
