@@ -97,7 +97,7 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
     }
 }
 
-/// [`visit_pairs`] for the atoms of group `g` (`4g ..`), placed by `(m,
+/// [`visit_pairs`] for the atoms of group `g`, placed by `(m,
 /// t)`, with the collider's map as `visit_pairs` looked it up once; false
 /// when `f` asked to stop.
 #[inline(always)]
@@ -118,7 +118,7 @@ fn visit_group<F: FnMut(Pair) -> bool>(
     let count = (drug.len() - 4 * g).min(4);
     let mut at = [Vec3::ZERO; 4];
     for (l, x) in at.iter_mut().enumerate().take(count) {
-        *x = drug.place(m, t, 4 * g + l);
+        *x = drug.place(m, t, drug.member(4 * g + l));
     }
     // Nothing within `c + extra` of an atom: no search.
     let d = drug.own_four(g).map(|own| own + extra_room);
@@ -132,7 +132,7 @@ fn visit_group<F: FnMut(Pair) -> bool>(
         {
             continue;
         }
-        let i = 4 * g + l;
+        let i = drug.member(4 * g + l);
         let far = drug.reach[i] + extra_room;
         let mut go_on = true;
         // As `drug.contact(i, ..)`, its parts looked up once per atom.

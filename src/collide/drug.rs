@@ -1,11 +1,13 @@
 //! A drug prepared for queries against one receptor collider: its atoms'
 //! local positions, radii and the per-atom parts of the contact distance,
-//! and its atoms four at a time (groups, in SIMD lanes) with each group's
-//! bounding ball, which move-to-touch tests before the atoms in it.
+//! and its atoms four at a time (groups of atoms close together, see
+//! [`super::grouping`], in SIMD lanes) with each group's bounding ball,
+//! which move-to-touch and the static check test before the atoms in it.
 
 use glam::{DMat3, DQuat, DVec3, Mat3, Vec3};
 use wide::f32x4;
 
+use super::grouping::compact_order;
 use super::rule::ContactRule;
 use crate::model::Molecule;
 use crate::motion::Pose;
@@ -77,11 +79,16 @@ pub struct DrugAtoms {
     /// Largest contact distance atom `i` can have with a receptor atom, less
     /// that atom's radius (the larger of `c_plain` and `c_polar`).
     own: Vec<f32>,
-    /// `own` four atoms at a time (SIMD lanes), the last group padded with
-    /// −∞, which no clearance test proves.
+    /// `own` four atoms at a time (SIMD lanes; the atoms of each group, see
+    /// `members`), the last group padded with −∞, which no clearance test
+    /// proves.
     own_fours: Vec<[f32; 4]>,
-    /// `local` four atoms at a time: x, y and z in SIMD lanes, the last
-    /// group padded with the origin.
+    /// The atoms in group order: group `g` holds atoms `members[4g ..
+    /// 4g + 4]` (the last group may hold fewer), spatially compact
+    /// ([`compact_order`]).
+    members: Vec<u32>,
+    /// `local` four atoms at a time (each group's): x, y and z in SIMD
+    /// lanes, the last group padded with the origin.
     local_fours: Vec<Lanes3>,
     /// Bounding balls of the groups of `local_fours`, four groups at a time.
     group_balls: Vec<Balls4>,
@@ -116,19 +123,24 @@ impl DrugAtoms {
             .zip(&c_polar)
             .map(|(a, b)| a.max(*b))
             .collect();
-        let own_fours = own
+        // The groups: runs of four of `members`, atoms close together.
+        let members = compact_order(&drug.local);
+        let grouped = |v: &[f32]| -> Vec<f32> { members.iter().map(|&i| v[i as usize]).collect() };
+        let (own_grouped, local_grouped): (Vec<f32>, Vec<Vec3>) = (
+            grouped(&own),
+            members.iter().map(|&i| drug.local[i as usize]).collect(),
+        );
+        let own_fours = own_grouped
             .chunks(4)
             .map(|c| std::array::from_fn(|l| c.get(l).copied().unwrap_or(f32::NEG_INFINITY)))
             .collect();
-        let local_fours = drug
-            .local
+        let local_fours = local_grouped
             .chunks(4)
             .map(|c| [0, 1, 2].map(|axis| lanes(c, |p| p[axis], 0.0)))
             .collect();
-        let balls: Vec<(Vec3, f32, f32)> = drug
-            .local
+        let balls: Vec<(Vec3, f32, f32)> = local_grouped
             .chunks(4)
-            .zip(own.chunks(4))
+            .zip(own_grouped.chunks(4))
             .map(|(c, own)| {
                 let lo = c.iter().fold(Vec3::INFINITY, |a, p| a.min(*p));
                 let hi = c.iter().fold(Vec3::NEG_INFINITY, |a, p| a.max(*p));
@@ -167,6 +179,7 @@ impl DrugAtoms {
             c_polar,
             own,
             own_fours,
+            members,
             local_fours,
             group_balls,
             reach,
@@ -192,10 +205,17 @@ impl DrugAtoms {
         self.own[i]
     }
 
-    /// [`DrugAtoms::own`] of atoms `4g .. 4g + 4` (−∞ past the last atom).
+    /// [`DrugAtoms::own`] of the atoms of group `g` (−∞ past the last atom).
     #[inline]
     pub fn own_four(&self, g: usize) -> [f32; 4] {
         self.own_fours[g]
+    }
+
+    /// The atom in lane `k % 4` of group `k / 4` (`k` below
+    /// [`DrugAtoms::len`]): the groups' atoms in order.
+    #[inline]
+    pub fn member(&self, k: usize) -> usize {
+        self.members[k] as usize
     }
 
     /// Contact distance of drug atom `i` with a receptor atom of radius `r`
@@ -231,7 +251,8 @@ impl DrugAtoms {
         (*m * self.local[i].as_dvec3() + t).as_vec3()
     }
 
-    /// Atom offsets from the centre, four atoms at a time in SIMD lanes
+    /// Atom offsets from the centre, four atoms (a group: lane `l` of group
+    /// `g` is atom [`DrugAtoms::member`]`(4g + l)`) at a time in SIMD lanes
     /// (x, y, z; the last group padded with zeros).
     pub fn local_fours(&self) -> &[Lanes3] {
         &self.local_fours
@@ -300,9 +321,17 @@ mod tests {
             };
             let groups = drug.local_fours();
             assert_eq!(groups.len(), n.div_ceil(4));
-            for i in 0..groups.len() * 4 {
-                let want = drug.local.get(i).copied().unwrap_or(Vec3::ZERO);
-                assert_eq!(lane(&groups[i / 4], i), want, "atom {i} of {n}");
+            // Lane k holds atom member(k), each atom once.
+            let mut seen = vec![false; n];
+            for k in 0..groups.len() * 4 {
+                let want = if k < n {
+                    let i = drug.member(k);
+                    assert!(!std::mem::replace(&mut seen[i], true), "atom {i} twice");
+                    drug.local[i]
+                } else {
+                    Vec3::ZERO
+                };
+                assert_eq!(lane(&groups[k / 4], k), want, "lane {k} of {n}");
             }
             let mut balls = Vec::new();
             for _ in 0..20 {
@@ -314,14 +343,16 @@ mod tests {
                 let turn = Turn4::new(pose.rotation);
                 drug.turned_balls_into(&turn, &mut balls);
                 assert_eq!(balls.len(), n.div_ceil(16));
-                for (i, y) in drug.rotated(&pose).iter().enumerate() {
-                    let got = lane(&turn.apply(groups[i / 4]), i).as_dvec3();
-                    assert!((got - *y).length() < 1e-5, "atom {i}: {got} vs {y}");
+                let rotated = drug.rotated(&pose);
+                for k in 0..n {
+                    let (i, y) = (drug.member(k), rotated[drug.member(k)]);
+                    let got = lane(&turn.apply(groups[k / 4]), k).as_dvec3();
+                    assert!((got - y).length() < 1e-5, "atom {i}: {got} vs {y}");
                     // Inside its group's ball, turned with it.
-                    let (g, b) = (i / 4, &balls[i / 16]);
+                    let (g, b) = (k / 4, &balls[k / 16]);
                     let c = lane(&b.centre, g).as_dvec3();
                     let r = f64::from(b.radius.to_array()[g % 4]);
-                    assert!((*y - c).length() <= r, "atom {i}: outside its ball");
+                    assert!((y - c).length() <= r, "atom {i}: outside its ball");
                 }
             }
             // Lanes past the last group are empty balls.
@@ -346,7 +377,7 @@ mod tests {
             .step_by(4)
             .map(|first| {
                 (first..(first + 4).min(drug.len()))
-                    .map(|i| drug.own(i))
+                    .map(|k| drug.own(drug.member(k)))
                     .fold(f32::NEG_INFINITY, f32::max)
             })
             .collect()
@@ -385,7 +416,7 @@ mod tests {
         }
     }
 
-    /// The lanes of `own_four` are `own` in order, padded with −∞ (which
+    /// The lanes of `own_four` are `own` in group order, padded with −∞ (which
     /// the clearance map never proves) past the last atom; polar atoms
     /// keep the larger of their two contact distances; a group's ball
     /// reaches its radius plus the largest of its atoms'.
@@ -409,13 +440,14 @@ mod tests {
                 let (radius, reach) = (b.radius.to_array()[g % 4], b.reach.to_array()[g % 4]);
                 assert_eq!(reach, radius + own, "group {g} of {n}");
             }
-            for i in 0..n.div_ceil(4) * 4 {
-                let lane = drug.own_four(i / 4)[i % 4];
-                if i < n {
+            for k in 0..n.div_ceil(4) * 4 {
+                let lane = drug.own_four(k / 4)[k % 4];
+                if k < n {
+                    let i = drug.member(k);
                     assert_eq!(lane, drug.own(i), "atom {i} of {n}");
                     assert_eq!(lane, drug.radius[i] - rule.overlap);
                 } else {
-                    assert_eq!(lane, f32::NEG_INFINITY, "padding {i} of {n}");
+                    assert_eq!(lane, f32::NEG_INFINITY, "padding {k} of {n}");
                 }
             }
         }

@@ -3,7 +3,8 @@
 //! [`rule`] says when two atoms collide; [`collider`] indexes the receptor
 //! (brute force, full grid or hashed grid; the grids also in
 //! [`padded_rows`]) and keeps a [`clearance`] map of the space around it;
-//! [`mod@check`] answers static queries; [`sweep`] moves the drug to touch
+//! [`drug`] prepares a drug's atoms for queries, four at a time in
+//! compact groups ([`grouping`]); [`mod@check`] answers static queries; [`sweep`] moves the drug to touch
 //! without tunnelling; [`response`] turns a proposed step into the
 //! session's answer (stop, touch, slide, pass);
 //! [`stats`] measures grid occupancy (the thesis's Table 1); [`oracle`] gives
@@ -13,6 +14,7 @@ pub mod check;
 pub mod clearance;
 pub mod collider;
 pub mod drug;
+pub mod grouping;
 pub mod oracle;
 pub mod padded_rows;
 pub mod response;

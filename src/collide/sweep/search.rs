@@ -376,7 +376,7 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
                         let mut at = [[0.0f32; 4]; 3];
                         let mut slack = [shared_slack; 4];
                         for l in 0..count {
-                            let i = first_atom + l;
+                            let i = drug.member(first_atom + l);
                             let xm = (rot_m * ys[i] + cm).as_vec3();
                             (at[0][l], at[1][l], at[2][l]) = (xm.x, xm.y, xm.z);
                             // f32 slack well above the rounding of receptor-frame
@@ -404,14 +404,14 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
                         d.to_array(),
                     );
                     for l in 0..count {
-                        let (i, xm32) = (first_atom + l, Vec3::new(px[l], py[l], pz[l]));
+                        let xm32 = Vec3::new(px[l], py[l], pz[l]);
                         if proved & (1 << l) != 0
                             || (open & (1 << l) != 0
                                 && clearance.is_some_and(|map| map.clear_corners(xm32, d[l])))
                         {
                             continue;
                         }
-                        let slack = slack[l];
+                        let (i, slack) = (drug.member(first_atom + l), slack[l]);
                         let far = drug.reach[i] + slack;
                         // As `drug.contact(i, ..)`, its parts looked up
                         // once per atom, not per receptor atom in reach: a

@@ -1,0 +1,235 @@
+//! Spatially compact groups of four drug atoms.
+//!
+//! Move-to-touch and the static check test a drug's atoms four at a time,
+//! first by the bounding ball of the four ([`super::drug::Balls4`]): a
+//! ball the clearance map proves far from the receptor spares its four
+//! atoms every further test. The smaller the balls, the more of them it
+//! proves, so the groups are not the file's runs of four atoms but the
+//! atoms gathered by proximity: [`compact_order`] orders the atoms so that
+//! each run of four lies close together.
+//!
+//! For drugs of up to [`GREEDY_MAX`] atoms the order is built greedily (the
+//! remaining atom farthest from the others' centroid starts a group, which
+//! then takes, three times, the remaining atom nearest its centroid), then
+//! improved by swapping atoms between groups while a swap shrinks the sum
+//! of the two groups' radii. On the scaling bench's 30-atom patches of
+//! 1rx1's surface this took the groups' radii from 14–21 Å to 13–17 Å in
+//! sum, and a move-to-touch query from 4550 to 4382 instructions (3–4 %
+//! of its time). Larger molecules are sorted along a Morton curve over a
+//! 1.5 Å lattice, which costs `n log n` and keeps most runs of four near.
+//!
+//! The order changes only which atoms share a group, never an answer: pairs
+//! name the drug's own atom indices.
+
+use glam::{DVec3, Vec3};
+
+/// Most atoms ordered greedily (quadratic cost; a drug has tens).
+pub const GREEDY_MAX: usize = 256;
+
+/// Most passes of swaps after the greedy order.
+const SWAP_PASSES: usize = 4;
+
+/// Lattice spacing of the Morton order for large molecules, Å.
+const MORTON_SPACING: f64 = 1.5;
+
+/// The atoms' indices ordered so that each run of four (the last run may
+/// be shorter) is spatially compact; a permutation of `0..points.len()`.
+/// Deterministic: ties go to the lower index.
+pub fn compact_order(points: &[Vec3]) -> Vec<u32> {
+    let p: Vec<DVec3> = points.iter().map(|v| v.as_dvec3()).collect();
+    if p.len() <= GREEDY_MAX {
+        let mut order = greedy(&p);
+        improve(&p, &mut order);
+        order
+    } else {
+        morton(&p)
+    }
+}
+
+/// Radius of the ball about the bounding box's centre that holds the
+/// points `group` (as [`super::drug::DrugAtoms`] bounds a group).
+pub fn group_radius(p: &[DVec3], group: &[u32]) -> f64 {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for &i in group {
+        lo = lo.min(p[i as usize]);
+        hi = hi.max(p[i as usize]);
+    }
+    let centre = 0.5 * (lo + hi);
+    group
+        .iter()
+        .map(|&i| p[i as usize].distance(centre))
+        .fold(0.0, f64::max)
+}
+
+/// Index in `left` of the point minimising `key`, ties to the lower atom
+/// index (`left` is not sorted: it loses items by `swap_remove`).
+fn best_by(p: &[DVec3], left: &[u32], key: impl Fn(DVec3) -> f64) -> usize {
+    let mut best = 0;
+    for k in 1..left.len() {
+        let (a, b) = (key(p[left[k] as usize]), key(p[left[best] as usize]));
+        if a < b || (a == b && left[k] < left[best]) {
+            best = k;
+        }
+    }
+    best
+}
+
+/// Greedy groups: the remaining point farthest from the remaining points'
+/// centroid starts a group (outliers first, while they still have near
+/// partners), which takes the remaining point nearest its centroid until
+/// it has four.
+fn greedy(p: &[DVec3]) -> Vec<u32> {
+    let mut left: Vec<u32> = (0..p.len() as u32).collect();
+    let mut order = Vec::with_capacity(p.len());
+    while !left.is_empty() {
+        let centroid = left.iter().map(|&i| p[i as usize]).sum::<DVec3>() / left.len() as f64;
+        let seed = best_by(p, &left, |x| -x.distance_squared(centroid));
+        let first = order.len();
+        order.push(left.swap_remove(seed));
+        while order.len() - first < 4 && !left.is_empty() {
+            let group = &order[first..];
+            let c = group.iter().map(|&i| p[i as usize]).sum::<DVec3>() / group.len() as f64;
+            let k = best_by(p, &left, |x| x.distance_squared(c));
+            order.push(left.swap_remove(k));
+        }
+    }
+    order
+}
+
+/// Swaps atoms between groups (runs of four of `order`) while a swap
+/// shrinks the sum of the two groups' radii, for up to [`SWAP_PASSES`]
+/// passes. Group sizes do not change, so a short group stays last.
+fn improve(p: &[DVec3], order: &mut [u32]) {
+    let n = order.len();
+    let run = |g: usize| 4 * g..(4 * g + 4).min(n);
+    for _ in 0..SWAP_PASSES {
+        let mut changed = false;
+        for a in 0..n {
+            for b in (a / 4 + 1) * 4..n {
+                let (ga, gb) = (run(a / 4), run(b / 4));
+                let before =
+                    group_radius(p, &order[ga.clone()]) + group_radius(p, &order[gb.clone()]);
+                order.swap(a, b);
+                let after = group_radius(p, &order[ga]) + group_radius(p, &order[gb]);
+                // A margin, so rounding cannot swap back and forth.
+                if after < before - 1e-9 {
+                    changed = true;
+                } else {
+                    order.swap(a, b);
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+}
+
+/// Indices sorted by the Morton code of their cell in a lattice over the
+/// points' box (ties by index).
+fn morton(p: &[DVec3]) -> Vec<u32> {
+    let lo = p.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+    // 21 bits per axis; coordinates beyond that many cells (or NaN) clamp.
+    let cell = |x: f64| ((x / MORTON_SPACING).max(0.0) as u64).min((1 << 21) - 1);
+    let spread = |mut v: u64| {
+        // Bit k of v moves to bit 3k.
+        v &= 0x1f_ffff;
+        v = (v | v << 32) & 0x001f_0000_0000_ffff;
+        v = (v | v << 16) & 0x001f_0000_ff00_00ff;
+        v = (v | v << 8) & 0x100f_00f0_0f00_f00f;
+        v = (v | v << 4) & 0x10c3_0c30_c30c_30c3;
+        v = (v | v << 2) & 0x1249_2492_4924_9249;
+        v
+    };
+    let mut keyed: Vec<(u64, u32)> = p
+        .iter()
+        .enumerate()
+        .map(|(i, x)| {
+            let d = *x - lo;
+            let code = spread(cell(d.x)) | spread(cell(d.y)) << 1 | spread(cell(d.z)) << 2;
+            (code, i as u32)
+        })
+        .collect();
+    keyed.sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    fn is_permutation(order: &[u32], n: usize) -> bool {
+        let mut seen = vec![false; n];
+        order.len() == n
+            && order
+                .iter()
+                .all(|&i| (i as usize) < n && !std::mem::replace(&mut seen[i as usize], true))
+    }
+
+    fn radii_sum(p: &[DVec3], order: &[u32]) -> f64 {
+        order.chunks(4).map(|g| group_radius(p, g)).sum()
+    }
+
+    /// Every size gives a permutation; on random clouds and on a chain
+    /// (a molecule's file order) the groups are no larger in sum than the
+    /// file's runs of four, and on a shuffled chain much smaller; the same
+    /// points give the same order.
+    #[test]
+    fn orders_are_compact_permutations() {
+        let mut rng = Rng(5);
+        for n in [0usize, 1, 3, 4, 5, 9, 30, 64, 257, 600] {
+            let cloud: Vec<Vec3> = (0..n)
+                .map(|_| rng.in_box(DVec3::splat(6.0)).as_vec3())
+                .collect();
+            let order = compact_order(&cloud);
+            assert!(is_permutation(&order, n), "{n}");
+            assert_eq!(order, compact_order(&cloud), "{n}: not deterministic");
+            let p: Vec<DVec3> = cloud.iter().map(|v| v.as_dvec3()).collect();
+            let file: Vec<u32> = (0..n as u32).collect();
+            if n <= GREEDY_MAX {
+                assert!(radii_sum(&p, &order) <= radii_sum(&p, &file) + 1e-9, "{n}");
+            }
+        }
+        // A helix of 1.5 Å steps visited in a scrambled order: its runs of
+        // four are spread over the helix, the compact ones are not.
+        let n = 40;
+        let helix: Vec<Vec3> = (0..n)
+            .map(|k| {
+                let a = k as f64 * 0.9;
+                DVec3::new(3.0 * a.cos(), 3.0 * a.sin(), 0.5 * k as f64).as_vec3()
+            })
+            .collect();
+        let scrambled: Vec<Vec3> = (0..n).map(|k| helix[(k * 17) % n]).collect();
+        let p: Vec<DVec3> = scrambled.iter().map(|v| v.as_dvec3()).collect();
+        let file: Vec<u32> = (0..n as u32).collect();
+        let order = compact_order(&scrambled);
+        assert!(is_permutation(&order, n));
+        assert!(
+            radii_sum(&p, &order) < 0.5 * radii_sum(&p, &file),
+            "{} vs {}",
+            radii_sum(&p, &order),
+            radii_sum(&p, &file)
+        );
+    }
+
+    /// The Morton order of a large molecule keeps its runs of four near:
+    /// on a random cloud, far smaller than the file's runs.
+    #[test]
+    fn large_molecules_are_sorted_along_a_curve() {
+        let mut rng = Rng(8);
+        let n = 2000;
+        let cloud: Vec<Vec3> = (0..n)
+            .map(|_| rng.in_box(DVec3::splat(20.0)).as_vec3())
+            .collect();
+        let order = compact_order(&cloud);
+        assert!(is_permutation(&order, n));
+        let p: Vec<DVec3> = cloud.iter().map(|v| v.as_dvec3()).collect();
+        let file: Vec<u32> = (0..n as u32).collect();
+        assert!(radii_sum(&p, &order) < 0.5 * radii_sum(&p, &file));
+        // NaN and far coordinates clamp to a cell rather than fail.
+        let mut odd = cloud.clone();
+        odd[3] = Vec3::new(f32::NAN, 0.0, 1e30);
+        assert!(is_permutation(&compact_order(&odd), n));
+    }
+}
