@@ -384,7 +384,7 @@ impl Collider {
         };
         let atoms: Vec<Vec4> = order.iter().map(|&i| raw[i as usize].0).collect();
         let soa = [0, 1, 2].map(|k| padded(atoms.iter().map(|a| a[k])));
-        let meta = order.iter().map(|&i| raw[i as usize].1).collect();
+        let meta: Vec<u32> = order.iter().map(|&i| raw[i as usize].1).collect();
         let mut slot = vec![0u32; n];
         for (k, &i) in order.iter().enumerate() {
             slot[i as usize] = k as u32;
@@ -408,15 +408,19 @@ impl Collider {
                 // 1.3k atoms, over a second for 272k), the rows up to a
                 // tenth of that; the session builds a collider in the frame
                 // that turns collision on, so it must not wait.
-                let (rows_slot, map_slot, copy) =
-                    (Arc::clone(&rows), Arc::clone(&clearance), atoms.clone());
+                let (rows_slot, map_slot, copy, tags) = (
+                    Arc::clone(&rows),
+                    Arc::clone(&clearance),
+                    atoms.clone(),
+                    meta.clone(),
+                );
                 let spawned = std::thread::Builder::new()
                     .name("bump-clearance".into())
                     .spawn(move || {
                         // Each set even if its build panicked, so nobody
                         // waits forever.
                         let built = std::panic::catch_unwind(|| {
-                            PaddedRows::build(&copy, row_margin, row_edge, hashed)
+                            PaddedRows::build(&copy, &tags, row_margin, row_edge, hashed)
                         });
                         let _ = rows_slot.set(built.ok().flatten());
                         let map = std::panic::catch_unwind(|| Clearance::build(&copy));
@@ -424,7 +428,9 @@ impl Collider {
                     });
                 if spawned.is_err() {
                     // No thread to be had: build them here.
-                    let _ = rows.set(PaddedRows::build(&atoms, row_margin, row_edge, hashed));
+                    let _ = rows.set(PaddedRows::build(
+                        &atoms, &meta, row_margin, row_edge, hashed,
+                    ));
                     let _ = clearance.set(Clearance::build(&atoms));
                 }
             }
@@ -706,11 +712,10 @@ pub(crate) struct RowSearch<'a> {
 
 impl Search for RowSearch<'_> {
     #[inline(always)]
-    fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, mut f: F) {
+    fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, f: F) {
         let c = self.collider;
         if radius <= self.rows.margin() {
-            self.rows
-                .near(p, radius, |s, d2| f(c.atoms[s], c.meta[s], d2));
+            self.rows.near(p, radius, f);
         } else {
             c.near_plain(p, radius, f);
         }

@@ -29,8 +29,8 @@ use wide::f32x4;
 
 use super::collider::hash_cell;
 
-/// Most stored copies of atoms (16 bytes each: x, y, z and the atom's
-/// storage slot): 64 MiB, as the clearance map's limit.
+/// Most stored copies of atoms (20 bytes each: x, y, z, radius and the
+/// atom's tag): 80 MiB, a little more than the clearance map's limit.
 pub const MAX_ENTRIES: usize = 1 << 22;
 
 /// Most (row, x cell) pairs, each a 4-byte run start.
@@ -61,11 +61,14 @@ pub struct PaddedRows {
     start: Vec<u32>,
     /// How a (row, x cell) finds its bucket.
     buckets: Buckets,
-    /// The entries' coordinates, [`LANES`] to a block (x, y, z lanes), the
-    /// last block padded.
-    blocks: Vec<[f32x4; 3]>,
-    /// The collider's storage slot of each entry.
-    slot: Vec<u32>,
+    /// The entries' centres and radii, [`LANES`] to a block (x, y, z and
+    /// radius lanes, 64 bytes), the last block padded.
+    blocks: Vec<[f32x4; 4]>,
+    /// The tag of each entry's atom (the collider's receptor index and
+    /// polarity): kept here, beside the radius in the block, so a search
+    /// reports an atom without loading it from the collider's arrays (two
+    /// dependent loads fewer per atom found).
+    tag: Vec<u32>,
 }
 
 /// How a (row, x cell) finds its bucket of [`PaddedRows`]'s runs.
@@ -102,23 +105,31 @@ fn cell_of(x: f32, origin: f32, inv: f32) -> i32 {
 }
 
 impl PaddedRows {
-    /// Rows over `atoms` (centre and radius, the collider's storage order)
-    /// for balls of radius up to `margin`, with x cells of `x_edge` Å, in a
-    /// dense table (`hashed` false) or a hash table; `None` for no atoms,
-    /// or when even the coarsest spacing would exceed the limits.
-    pub fn build(atoms: &[Vec4], margin: f32, x_edge: f32, hashed: bool) -> Option<Self> {
-        Self::build_within(atoms, margin, x_edge, hashed, MAX_ENTRIES)
+    /// Rows over `atoms` (centre and radius) with their `tags` (one per
+    /// atom, reported with it) for balls of radius up to `margin`, with x
+    /// cells of `x_edge` Å, in a dense table (`hashed` false) or a hash
+    /// table; `None` for no atoms, for a tag missing, or when even the
+    /// coarsest spacing would exceed the limits.
+    pub fn build(
+        atoms: &[Vec4],
+        tags: &[u32],
+        margin: f32,
+        x_edge: f32,
+        hashed: bool,
+    ) -> Option<Self> {
+        Self::build_within(atoms, tags, margin, x_edge, hashed, MAX_ENTRIES)
     }
 
     /// [`PaddedRows::build`] with at most `max_entries` copies.
     fn build_within(
         atoms: &[Vec4],
+        tags: &[u32],
         margin: f32,
         x_edge: f32,
         hashed: bool,
         max_entries: usize,
     ) -> Option<Self> {
-        if atoms.is_empty() || !(margin > 0.0 && x_edge > 0.0) {
+        if atoms.is_empty() || tags.len() < atoms.len() || !(margin > 0.0 && x_edge > 0.0) {
             return None;
         }
         let mut lo = Vec3::splat(f32::INFINITY);
@@ -212,14 +223,14 @@ impl PaddedRows {
             let total = start[cells] as usize;
             let mut fill = start.clone();
             let mut slot = vec![0u32; total];
-            let mut tags = vec![0u32; if hashed { total } else { 0 }];
+            let mut row_tags = vec![0u32; if hashed { total } else { 0 }];
             for (s, &(ix, (y0, y1), (z0, z1))) in homes.iter().enumerate() {
                 for iz in z0..=z1 {
                     for iy in y0..=y1 {
                         let k = key(ix, iy, iz);
                         let e = fill[k] as usize;
                         slot[e] = s as u32;
-                        if let Some(t) = tags.get_mut(e) {
+                        if let Some(t) = row_tags.get_mut(e) {
                             *t = (iz * dims[1] + iy) as u32;
                         }
                         fill[k] += 1;
@@ -228,12 +239,15 @@ impl PaddedRows {
             }
             let buckets = match buckets {
                 Buckets::Dense => Buckets::Dense,
-                Buckets::Hashed { mask, .. } => Buckets::Hashed { mask, row_of: tags },
+                Buckets::Hashed { mask, .. } => Buckets::Hashed {
+                    mask,
+                    row_of: row_tags,
+                },
             };
             let blocks = slot
                 .chunks(LANES)
                 .map(|c| {
-                    [0, 1, 2].map(|k| {
+                    [0, 1, 2, 3].map(|k| {
                         let mut v = [0.0f32; LANES];
                         for (l, &s) in c.iter().enumerate() {
                             v[l] = atoms[s as usize][k];
@@ -250,7 +264,7 @@ impl PaddedRows {
                 start,
                 buckets,
                 blocks,
-                slot,
+                tag: slot.iter().map(|&s| tags[s as usize]).collect(),
             });
         }
         None
@@ -265,14 +279,15 @@ impl PaddedRows {
     /// Stored copies of atoms.
     #[cfg(test)]
     fn entries(&self) -> usize {
-        self.slot.len()
+        self.tag.len()
     }
 
-    /// Calls `f(slot, d²)` for every atom whose centre lies within `radius`
-    /// (at most [`PaddedRows::margin`]) of `p`, `d²` summed x, y, z in that
-    /// order in f32, as the collider computes it; each atom once.
+    /// Calls `f(atom, tag, d²)` for every atom (centre and radius) whose
+    /// centre lies within `radius` (at most [`PaddedRows::margin`]) of `p`,
+    /// with its tag, `d²` summed x, y, z in that order in f32, as the
+    /// collider computes it; each atom once.
     #[inline(always)]
-    pub fn near(&self, p: Vec3, radius: f32, mut f: impl FnMut(usize, f32)) {
+    pub fn near(&self, p: Vec3, radius: f32, mut f: impl FnMut(Vec4, u32, f32)) {
         debug_assert!(radius <= self.margin);
         // The x cells of the ball's box, the y-z square of its centre.
         let cells = |v: f32x4| {
@@ -324,7 +339,7 @@ impl PaddedRows {
     }
 
     /// Tests entries `lo..hi` against the ball (centre in lanes, squared
-    /// radius) and calls `f(slot, d²)` for those inside that `keep`.
+    /// radius) and calls `f(atom, tag, d²)` for those inside that `keep`.
     #[inline(always)]
     fn scan(
         &self,
@@ -332,7 +347,7 @@ impl PaddedRows {
         hi: usize,
         ([px, py, pz], r2): ([f32x4; 3], f32x4),
         keep_entry: impl Fn(usize) -> bool,
-        f: &mut impl FnMut(usize, f32),
+        f: &mut impl FnMut(Vec4, u32, f32),
     ) {
         if lo >= hi {
             return;
@@ -342,7 +357,7 @@ impl PaddedRows {
         let mut blk = lo / LANES;
         let mut keep = !0u32 << (lo % LANES);
         loop {
-            let Some([bx, by, bz]) = self.blocks.get(blk) else {
+            let Some([bx, by, bz, br]) = self.blocks.get(blk) else {
                 return;
             };
             let (dx, dy, dz) = (*bx - px, *by - py, *bz - pz);
@@ -353,14 +368,15 @@ impl PaddedRows {
             }
             if hits != 0 {
                 let d2 = d2.to_array();
+                let [x, y, z, r] = [bx, by, bz, br].map(|v| v.to_array());
                 while hits != 0 {
                     let l = hits.trailing_zeros() as usize;
                     hits &= hits - 1;
                     let e = LANES * blk + l;
-                    if let Some(&s) = self.slot.get(e)
+                    if let Some(&tag) = self.tag.get(e)
                         && keep_entry(e)
                     {
-                        f(s as usize, d2[l]);
+                        f(Vec4::new(x[l], y[l], z[l], r[l]), tag, d2[l]);
                     }
                 }
             }
@@ -379,6 +395,11 @@ mod tests {
     use crate::rng::Rng;
     use glam::DVec3;
 
+    /// Each atom's index as its tag.
+    fn tags(n: usize) -> Vec<u32> {
+        (0..n as u32).collect()
+    }
+
     /// The atoms within `radius` of `p` by brute force, with `d²` as the
     /// collider computes it, sorted.
     fn brute(atoms: &[Vec4], p: Vec3, radius: f32) -> Vec<(usize, u32)> {
@@ -395,9 +416,13 @@ mod tests {
         v
     }
 
-    fn found(rows: &PaddedRows, p: Vec3, radius: f32) -> Vec<(usize, u32)> {
+    /// What `rows` (built with each atom's index as its tag) reports.
+    fn found(rows: &PaddedRows, atoms: &[Vec4], p: Vec3, radius: f32) -> Vec<(usize, u32)> {
         let mut v = Vec::new();
-        rows.near(p, radius, |s, d2| v.push((s, d2.to_bits())));
+        rows.near(p, radius, |a, tag, d2| {
+            assert_eq!(a, atoms[tag as usize], "atom {tag} as stored");
+            v.push((tag as usize, d2.to_bits()));
+        });
         let n = v.len();
         v.sort_unstable();
         v.dedup();
@@ -427,13 +452,14 @@ mod tests {
             let atoms = atoms(&mut rng, 200 + 75 * round);
             let margin = rng.range(2.5, 4.5) as f32;
             let hashed = round % 2 == 1;
-            let rows = PaddedRows::build(&atoms, margin, 1.5, hashed).expect("rows");
+            let rows =
+                PaddedRows::build(&atoms, &tags(atoms.len()), margin, 1.5, hashed).expect("rows");
             for _ in 0..3000 {
                 // Inside, around and well outside the atoms' box.
                 let p = rng.in_box(DVec3::splat(45.0)).as_vec3();
                 let radius = rng.range(0.0, f64::from(margin)) as f32;
                 assert_eq!(
-                    found(&rows, p, radius),
+                    found(&rows, &atoms, p, radius),
                     brute(&atoms, p, radius),
                     "{p} {radius}"
                 );
@@ -441,9 +467,9 @@ mod tests {
             // Points on an atom, and a hair off the ball's edge.
             for a in atoms.iter().take(50) {
                 let p = a.truncate();
-                assert_eq!(found(&rows, p, margin), brute(&atoms, p, margin));
+                assert_eq!(found(&rows, &atoms, p, margin), brute(&atoms, p, margin));
                 let q = p + Vec3::new(margin, 0.0, 0.0) * (1.0 + f32::EPSILON);
-                assert_eq!(found(&rows, q, margin), brute(&atoms, q, margin));
+                assert_eq!(found(&rows, &atoms, q, margin), brute(&atoms, q, margin));
             }
         }
     }
@@ -453,17 +479,26 @@ mod tests {
         let mut rng = Rng(9);
         let atoms = atoms(&mut rng, 400);
         for hashed in [false, true] {
-            let fine = PaddedRows::build(&atoms, 3.75, 1.5, hashed).expect("rows");
+            let fine =
+                PaddedRows::build(&atoms, &tags(atoms.len()), 3.75, 1.5, hashed).expect("rows");
             let limit = fine.entries() / 3;
             let coarse =
-                PaddedRows::build_within(&atoms, 3.75, 1.5, hashed, limit).expect("coarser rows");
+                PaddedRows::build_within(&atoms, &tags(atoms.len()), 3.75, 1.5, hashed, limit)
+                    .expect("coarser rows");
             assert!(coarse.entries() <= limit, "{} > {limit}", coarse.entries());
-            let few = PaddedRows::build_within(&atoms, 3.75, 1.5, hashed, atoms.len());
+            let few = PaddedRows::build_within(
+                &atoms,
+                &tags(atoms.len()),
+                3.75,
+                1.5,
+                hashed,
+                atoms.len(),
+            );
             assert!(few.is_none());
             for _ in 0..2000 {
                 let p = rng.in_box(DVec3::splat(40.0)).as_vec3();
                 let radius = rng.range(0.0, 3.75) as f32;
-                assert_eq!(found(&coarse, p, radius), brute(&atoms, p, radius));
+                assert_eq!(found(&coarse, &atoms, p, radius), brute(&atoms, p, radius));
             }
         }
     }
@@ -481,7 +516,7 @@ mod tests {
                 c.as_vec3().extend(1.7)
             })
             .collect();
-        let rows = PaddedRows::build(&atoms, 3.0, 1.5, true).expect("rows");
+        let rows = PaddedRows::build(&atoms, &tags(atoms.len()), 3.0, 1.5, true).expect("rows");
         let Buckets::Hashed { mask, .. } = &rows.buckets else {
             panic!("hashed buckets");
         };
@@ -491,7 +526,7 @@ mod tests {
             let p = rng.in_box(DVec3::new(125.0, 12.0, 12.0)).as_vec3();
             let radius = rng.range(0.0, 3.0) as f32;
             let want = brute(&atoms, p, radius);
-            assert_eq!(found(&rows, p, radius), want, "{p} {radius}");
+            assert_eq!(found(&rows, &atoms, p, radius), want, "{p} {radius}");
             // Count the queries whose buckets wrap, and those whose run
             // holds entries of other rows.
             let cell = |v: f32, o: usize| {
@@ -529,7 +564,9 @@ mod tests {
     fn odd_input_gives_no_rows_or_no_atoms() {
         let one = [Vec4::new(1.0, 2.0, 3.0, 1.7)];
         for hashed in [false, true] {
-            let build = |atoms: &[Vec4], margin| PaddedRows::build(atoms, margin, 1.5, hashed);
+            let build = |atoms: &[Vec4], margin| {
+                PaddedRows::build(atoms, &tags(atoms.len()), margin, 1.5, hashed)
+            };
             assert!(build(&[], 3.0).is_none());
             assert!(build(&one, 0.0).is_none());
             assert!(build(&one, f32::NAN).is_none());
@@ -542,12 +579,14 @@ mod tests {
                 Vec4::new(3e7, 3e5, 3e5, 1.7),
             ];
             assert!(build(&spread, 3.0).is_none());
+            // A tag for every atom, or no rows.
+            assert!(PaddedRows::build(&one, &[], 3.0, 1.5, hashed).is_none());
             let rows = build(&one, 3.0).expect("one atom");
-            assert_eq!(found(&rows, Vec3::new(1.0, 2.0, 3.0), 0.0).len(), 1);
-            assert!(found(&rows, Vec3::NAN, 3.0).is_empty());
-            assert!(found(&rows, Vec3::splat(1e30), 3.0).is_empty());
-            assert!(found(&rows, Vec3::new(1.0, 2.0, 6.01), 3.0).is_empty());
-            assert_eq!(found(&rows, Vec3::new(1.0, 2.0, 5.99), 3.0).len(), 1);
+            assert_eq!(found(&rows, &one, Vec3::new(1.0, 2.0, 3.0), 0.0).len(), 1);
+            assert!(found(&rows, &one, Vec3::NAN, 3.0).is_empty());
+            assert!(found(&rows, &one, Vec3::splat(1e30), 3.0).is_empty());
+            assert!(found(&rows, &one, Vec3::new(1.0, 2.0, 6.01), 3.0).is_empty());
+            assert_eq!(found(&rows, &one, Vec3::new(1.0, 2.0, 5.99), 3.0).len(), 1);
         }
     }
 }
