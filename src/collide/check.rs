@@ -132,11 +132,11 @@ fn visit_group<F: FnMut(Pair) -> bool>(
         {
             continue;
         }
-        let i = drug.member(4 * g + l);
-        let far = drug.reach[i] + extra_room;
-        let mut go_on = true;
         // As `drug.contact(i, ..)`, its parts looked up once per atom.
-        let parts = drug.contact_parts(i);
+        let searched = drug.searched(4 * g + l);
+        let (i, parts) = (searched.atom, searched.parts);
+        let far = searched.reach + extra_room;
+        let mut go_on = true;
         collider.near(x, far, |a, meta, d2| {
             if !go_on {
                 return;
@@ -146,7 +146,7 @@ fn visit_group<F: FnMut(Pair) -> bool>(
             if within(d2, c + extra) {
                 go_on = f(Pair {
                     receptor: j,
-                    drug: i as u32,
+                    drug: i,
                     distance: reported_distance(d2, c),
                     contact: c,
                 });

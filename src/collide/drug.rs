@@ -56,6 +56,18 @@ pub struct Balls4 {
     pub reach: f32x4,
 }
 
+/// A drug atom as a search for its receptor atoms needs it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Searched {
+    /// Its index.
+    pub atom: u32,
+    /// [`DrugAtoms::reach`]: the radius to search.
+    pub reach: f32,
+    /// [`DrugAtoms::contact_parts`]: its contact distance with a receptor
+    /// atom is that atom's radius plus `parts[polar]`.
+    pub parts: [f32; 2],
+}
+
 /// `f` of up to four items in SIMD lanes, `pad` in the lanes past them.
 fn lanes<T>(items: &[T], f: impl Fn(&T) -> f32, pad: f32) -> f32x4 {
     f32x4::from(std::array::from_fn::<f32, 4, _>(|l| {
@@ -87,6 +99,9 @@ pub struct DrugAtoms {
     /// 4g + 4]` (the last group may hold fewer), spatially compact
     /// ([`compact_order`]).
     members: Vec<u32>,
+    /// What a search needs of each atom, in group order (as `members`):
+    /// one load for what would be four, from four arrays.
+    searched: Vec<Searched>,
     /// `local` four atoms at a time (each group's): x, y and z in SIMD
     /// lanes, the last group padded with the origin.
     local_fours: Vec<Lanes3>,
@@ -171,6 +186,17 @@ impl DrugAtoms {
             .iter()
             .map(|p| f64::from(p.length()))
             .fold(0.0, f64::max);
+        let searched = members
+            .iter()
+            .map(|&i| {
+                let i = i as usize;
+                Searched {
+                    atom: i as u32,
+                    reach: reach[i],
+                    parts: [c_plain[i], c_polar[i]],
+                }
+            })
+            .collect();
         Self {
             local: drug.local.clone(),
             radius,
@@ -179,6 +205,7 @@ impl DrugAtoms {
             c_polar,
             own,
             own_fours,
+            searched,
             members,
             local_fours,
             group_balls,
@@ -216,6 +243,13 @@ impl DrugAtoms {
     #[inline]
     pub fn member(&self, k: usize) -> usize {
         self.members[k] as usize
+    }
+
+    /// What a search for the atom in lane `k % 4` of group `k / 4` needs
+    /// (`k` below [`DrugAtoms::len`]).
+    #[inline]
+    pub fn searched(&self, k: usize) -> Searched {
+        self.searched[k]
     }
 
     /// Contact distance of drug atom `i` with a receptor atom of radius `r`
@@ -413,6 +447,12 @@ mod tests {
                 let parts = drug.contact_parts(i);
                 assert_eq!(drug.contact(i, r, polar), r + parts[usize::from(polar)]);
             }
+        }
+        // A search's view of each atom, in group order, is the atom's own.
+        for k in 0..atoms.len() {
+            let (s, i) = (drug.searched(k), drug.member(k));
+            assert_eq!(s.atom as usize, i);
+            assert_eq!((s.reach, s.parts), (drug.reach[i], drug.contact_parts(i)));
         }
     }
 
