@@ -16,8 +16,9 @@
 //! 1rx1's surface this took the groups' radii from 14–21 Å to 13–17 Å in
 //! sum, a move-to-touch query from 4550 to 4396 instructions, and
 //! parry3d's time over bump's from 8.19× to 8.61× (medians of runs timing
-//! the two alternately). Larger molecules are sorted along a Morton curve over a
-//! 1.5 Å lattice, which costs `n log n` and keeps most runs of four near.
+//! the two alternately). Larger molecules are sorted along a Morton curve
+//! over a 1.5 Å lattice, which costs `n log n` and keeps most runs of four
+//! near.
 //!
 //! The order changes only which atoms share a group, never an answer: pairs
 //! name the drug's own atom indices.

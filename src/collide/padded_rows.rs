@@ -16,7 +16,10 @@
 //! [`MAX_ENTRIES`]; a receptor whose rows cannot (none real) has none. The
 //! coordinates are kept four entries to a block, x, y and z in lanes: kept
 //! in three separate arrays instead, the rows made 1rx1's surface queries
-//! 5 % slower than the plain grid rather than faster.
+//! 5 % slower than the plain grid rather than faster. Each entry's radius
+//! is a fourth lane of its block and its tag (the collider's receptor
+//! index and polarity) lies beside it, so a search reports an atom from
+//! the rows alone.
 //!
 //! The full grid finds a (row, x cell)'s run of entries in a dense table
 //! over the box ([`Buckets::Dense`]); the hashed grid in a hash table sized
