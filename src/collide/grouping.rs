@@ -16,9 +16,11 @@
 //! 1rx1's surface this took the groups' radii from 14–21 Å to 13–17 Å in
 //! sum, a move-to-touch query from 4550 to 4396 instructions, and
 //! parry3d's time over bump's from 8.19× to 8.61× (medians of runs timing
-//! the two alternately). Larger molecules are sorted along a Morton curve
-//! over a 1.5 Å lattice, which costs `n log n` and keeps most runs of four
-//! near.
+//! the two alternately). It takes 0.07 ms for 30 atoms and 4.4 ms for
+//! 256, once per drug. Larger molecules (a protein moved as a whole) keep
+//! their file order, which runs residue by residue: a Morton order took
+//! their setup from 15 to 50 ms (the 272k-atom assembly), a pause in the
+//! frame that selects it.
 //!
 //! The order changes only which atoms share a group, never an answer: pairs
 //! name the drug's own atom indices.
@@ -31,21 +33,19 @@ pub const GREEDY_MAX: usize = 256;
 /// Most passes of swaps after the greedy order.
 const SWAP_PASSES: usize = 4;
 
-/// Lattice spacing of the Morton order for large molecules, Å.
-const MORTON_SPACING: f64 = 1.5;
-
 /// The atoms' indices ordered so that each run of four (the last run may
 /// be shorter) is spatially compact; a permutation of `0..points.len()`.
 /// Deterministic: ties go to the lower index.
 pub fn compact_order(points: &[Vec3]) -> Vec<u32> {
-    let p: Vec<DVec3> = points.iter().map(|v| v.as_dvec3()).collect();
-    if p.len() <= GREEDY_MAX {
-        let mut order = greedy(&p);
-        improve(&p, &mut order);
-        order
-    } else {
-        morton(&p)
+    if points.len() > GREEDY_MAX {
+        // A large molecule is a protein moved as a whole: its file runs
+        // residue by residue, so its runs of four are near already.
+        return (0..points.len() as u32).collect();
     }
+    let p: Vec<DVec3> = points.iter().map(|v| v.as_dvec3()).collect();
+    let mut order = greedy(&p);
+    improve(&p, &mut order);
+    order
 }
 
 /// Radius of the ball about the bounding box's centre that holds the
@@ -104,17 +104,22 @@ fn greedy(p: &[DVec3]) -> Vec<u32> {
 fn improve(p: &[DVec3], order: &mut [u32]) {
     let n = order.len();
     let run = |g: usize| 4 * g..(4 * g + 4).min(n);
+    // Each group's radius, kept up to date as swaps are taken, so a trial
+    // measures only the two groups as they would be after it.
+    let mut radius: Vec<f64> = order.chunks(4).map(|g| group_radius(p, g)).collect();
     for _ in 0..SWAP_PASSES {
         let mut changed = false;
         for a in 0..n {
             for b in (a / 4 + 1) * 4..n {
-                let (ga, gb) = (run(a / 4), run(b / 4));
-                let before =
-                    group_radius(p, &order[ga.clone()]) + group_radius(p, &order[gb.clone()]);
+                let (ga, gb) = (a / 4, b / 4);
                 order.swap(a, b);
-                let after = group_radius(p, &order[ga]) + group_radius(p, &order[gb]);
+                let (ra, rb) = (
+                    group_radius(p, &order[run(ga)]),
+                    group_radius(p, &order[run(gb)]),
+                );
                 // A margin, so rounding cannot swap back and forth.
-                if after < before - 1e-9 {
+                if ra + rb < radius[ga] + radius[gb] - 1e-9 {
+                    (radius[ga], radius[gb]) = (ra, rb);
                     changed = true;
                 } else {
                     order.swap(a, b);
@@ -125,35 +130,6 @@ fn improve(p: &[DVec3], order: &mut [u32]) {
             break;
         }
     }
-}
-
-/// Indices sorted by the Morton code of their cell in a lattice over the
-/// points' box (ties by index).
-fn morton(p: &[DVec3]) -> Vec<u32> {
-    let lo = p.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-    // 21 bits per axis; coordinates beyond that many cells (or NaN) clamp.
-    let cell = |x: f64| ((x / MORTON_SPACING).max(0.0) as u64).min((1 << 21) - 1);
-    let spread = |mut v: u64| {
-        // Bit k of v moves to bit 3k.
-        v &= 0x1f_ffff;
-        v = (v | v << 32) & 0x001f_0000_0000_ffff;
-        v = (v | v << 16) & 0x001f_0000_ff00_00ff;
-        v = (v | v << 8) & 0x100f_00f0_0f00_f00f;
-        v = (v | v << 4) & 0x10c3_0c30_c30c_30c3;
-        v = (v | v << 2) & 0x1249_2492_4924_9249;
-        v
-    };
-    let mut keyed: Vec<(u64, u32)> = p
-        .iter()
-        .enumerate()
-        .map(|(i, x)| {
-            let d = *x - lo;
-            let code = spread(cell(d.x)) | spread(cell(d.y)) << 1 | spread(cell(d.z)) << 2;
-            (code, i as u32)
-        })
-        .collect();
-    keyed.sort_unstable();
-    keyed.into_iter().map(|(_, i)| i).collect()
 }
 
 #[cfg(test)]
@@ -173,14 +149,13 @@ mod tests {
         order.chunks(4).map(|g| group_radius(p, g)).sum()
     }
 
-    /// Every size gives a permutation; on random clouds and on a chain
-    /// (a molecule's file order) the groups are no larger in sum than the
-    /// file's runs of four, and on a shuffled chain much smaller; the same
-    /// points give the same order.
+    /// Every size gives a permutation; on random clouds the groups are no
+    /// larger in sum than the file's runs of four, and on a scrambled helix
+    /// much smaller; the same points give the same order.
     #[test]
     fn orders_are_compact_permutations() {
         let mut rng = Rng(5);
-        for n in [0usize, 1, 3, 4, 5, 9, 30, 64, 257, 600] {
+        for n in [0usize, 1, 3, 4, 5, 9, 30, 64, GREEDY_MAX, GREEDY_MAX + 1] {
             let cloud: Vec<Vec3> = (0..n)
                 .map(|_| rng.in_box(DVec3::splat(6.0)).as_vec3())
                 .collect();
@@ -215,23 +190,14 @@ mod tests {
         );
     }
 
-    /// The Morton order of a large molecule keeps its runs of four near:
-    /// on a random cloud, far smaller than the file's runs.
+    /// A large molecule keeps its file order.
     #[test]
-    fn large_molecules_are_sorted_along_a_curve() {
+    fn large_molecules_keep_their_order() {
         let mut rng = Rng(8);
-        let n = 2000;
+        let n = GREEDY_MAX + 1;
         let cloud: Vec<Vec3> = (0..n)
             .map(|_| rng.in_box(DVec3::splat(20.0)).as_vec3())
             .collect();
-        let order = compact_order(&cloud);
-        assert!(is_permutation(&order, n));
-        let p: Vec<DVec3> = cloud.iter().map(|v| v.as_dvec3()).collect();
-        let file: Vec<u32> = (0..n as u32).collect();
-        assert!(radii_sum(&p, &order) < 0.5 * radii_sum(&p, &file));
-        // NaN and far coordinates clamp to a cell rather than fail.
-        let mut odd = cloud.clone();
-        odd[3] = Vec3::new(f32::NAN, 0.0, 1e30);
-        assert!(is_permutation(&compact_order(&odd), n));
+        assert_eq!(compact_order(&cloud), (0..n as u32).collect::<Vec<_>>());
     }
 }

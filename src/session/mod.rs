@@ -723,7 +723,7 @@ impl Session {
 
     /// Molecule `k`'s atoms set up to move against receptor atoms of radius
     /// up to `max_radius`, kept for the next time (for the 272k-atom
-    /// assembly they take 10 ms to set up).
+    /// assembly they take about 20 ms to set up).
     fn moving_atoms(&mut self, k: usize, max_radius: f32) -> Arc<DrugAtoms> {
         if let Some(Some((r, atoms))) = self.moving_atoms.get(k)
             && r.to_bits() == max_radius.to_bits()
