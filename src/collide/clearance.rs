@@ -483,38 +483,30 @@ impl Clearance {
             (p[1] - origin[1]) * self.inv_spacing,
             (p[2] - origin[2]) * self.inv_spacing,
         ];
-        let inside = u[0].simd_ge(f32x4::ZERO)
-            & u[0].simd_lt(last[0])
-            & u[1].simd_ge(f32x4::ZERO)
-            & u[1].simd_lt(last[1])
-            & u[2].simd_ge(f32x4::ZERO)
-            & u[2].simd_lt(last[2]);
-        // Outside the lattice the atoms are at least CAP away; NaN and
-        // infinite points are neither inside nor finite.
-        let big = f32x4::splat(f32::MAX);
-        let finite = p[0].abs().simd_le(big) & p[1].abs().simd_le(big) & p[2].abs().simd_le(big);
-        let beyond = usable & finite & !inside;
-        // The nearest corner (rounded to nearest: inside, within 0 ..=
-        // last) and the point's offset from it in lattice units. Which of
-        // two corners a point halfway between takes does not matter: the
-        // bounds below hold for any corner of its cell.
-        let near = |u: f32x4| {
-            let c = u.fast_round_int();
+        // The vertex nearest the point, clamped into the lattice (NaN to
+        // vertex 0: `fast_max` takes its second operand then), and the
+        // point's offset from it in lattice units. The bound below holds
+        // for any vertex, so a point beyond the lattice needs no test of
+        // its own: it is measured from the nearest vertex on the edge, and
+        // what that leaves unproved the eight-corner test proves (beyond
+        // the lattice the atoms are at least CAP away, and every edge
+        // vertex holds CAP, so such a point is always left open). Which of
+        // two vertices a point halfway between takes does not matter.
+        let near = |u: f32x4, last: f32x4| {
+            let c = u.fast_max(f32x4::ZERO).fast_min(last).fast_round_int();
             let f = c.round_float();
             (c, f, u - f)
         };
-        let (ix, _, ex) = near(u[0]);
-        let (_, cy, ey) = near(u[1]);
-        let (_, cz, ez) = near(u[2]);
+        let (ix, _, ex) = near(u[0], last[0]);
+        let (_, cy, ey) = near(u[1], last[1]);
+        let (_, cz, ez) = near(u[2], last[2]);
         // Its index, `row · nx + x` with `row = z · ny + y`: the row in f32
         // (exact: the build keeps `ny · nz` within 2^24), the rest in
         // integers, since a map may have up to 2^26 vertices and in f32 an
         // index past 2^24 rounds to a neighbouring vertex, whose value can
-        // prove a point that is not clear. Lanes outside read vertex 0
-        // (what they read is masked off below), so the four loads need no
-        // branch of their own.
-        let row = ((cz * ny + cy) & inside).fast_trunc_int().to_array();
-        let x = (ix & bytemuck::cast::<f32x4, i32x4>(inside)).to_array();
+        // prove a point that is not clear.
+        let row = (cz * ny + cy).fast_trunc_int().to_array();
+        let x = ix.to_array();
         let nx = self.dims[0];
         let value = |k: usize| {
             let index = row[k] as usize * nx + x[k] as usize;
@@ -525,13 +517,13 @@ impl Clearance {
         let e2 = (ex * ex + ey * ey + ez * ez) * step2;
         // value − need > spacing · distance, both sides squared (the left
         // positive), so no square roots.
-        let proved = usable & inside & room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(e2);
+        let proved = usable & room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(e2);
         // As `corners_may_prove`, in lanes.
         let hope = room + f32x4::splat(HOPE);
         let may = hope.simd_gt(f32x4::ZERO) | (hope * hope).simd_lt(e2);
         Nearest4 {
-            proved: (proved | beyond).to_bitmask() & 0b1111,
-            open: (usable & inside & !proved & may).to_bitmask() & 0b1111,
+            proved: proved.to_bitmask() & 0b1111,
+            open: (usable & !proved & may).to_bitmask() & 0b1111,
         }
     }
 
