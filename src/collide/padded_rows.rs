@@ -22,7 +22,8 @@
 //! the rows alone.
 //!
 //! The full grid finds a (row, x cell)'s run of entries in a dense table
-//! over the box ([`Buckets::Dense`]); the hashed grid in a hash table sized
+//! over the box ([`Buckets::Dense`]), each row starting at a block so that
+//! a scan tests whole blocks, without masking lanes; the hashed grid in a hash table sized
 //! from the number of entries, a row's x cells in consecutive buckets as in
 //! its own table ([`Buckets::Hashed`]), each entry tagged with its row so a
 //! query skips the entries of other rows that share its buckets.
@@ -98,6 +99,10 @@ type Home = (i32, (i32, i32), (i32, i32));
 
 /// Entries tested together (f32x4 lanes), as in the collider.
 const LANES: usize = 4;
+
+/// The atom of a slot that holds none (the padding that ends a full
+/// grid's row).
+const UNUSED: u32 = u32::MAX;
 
 /// Integer cell of `x`, as the collider's `cell_of` (saturating; 0 for NaN).
 #[inline]
@@ -220,12 +225,20 @@ impl PaddedRows {
                     }
                 }
             }
+            // The full grid starts every row at a block: a scan's first
+            // block then holds nothing of the row before (see `scan`), and
+            // its last nothing of the row after, but the unused slots that
+            // end each row, which hold no atom.
+            let row_length = nx as usize;
             for c in 0..cells {
                 start[c + 1] += start[c];
+                if !hashed && (c + 1) % row_length == 0 {
+                    start[c + 1] = start[c + 1].next_multiple_of(LANES as u32);
+                }
             }
             let total = start[cells] as usize;
             let mut fill = start.clone();
-            let mut slot = vec![0u32; total];
+            let mut slot = vec![UNUSED; total];
             let mut row_tags = vec![0u32; if hashed { total } else { 0 }];
             for (s, &(ix, (y0, y1), (z0, z1))) in homes.iter().enumerate() {
                 for iz in z0..=z1 {
@@ -253,7 +266,9 @@ impl PaddedRows {
                     [0, 1, 2, 3].map(|k| {
                         let mut v = [0.0f32; LANES];
                         for (l, &s) in c.iter().enumerate() {
-                            v[l] = atoms[s as usize][k];
+                            // An unused slot lies infinitely far away: no
+                            // ball holds it.
+                            v[l] = atoms.get(s as usize).map_or(f32::INFINITY, |a| a[k]);
                         }
                         f32x4::from(v)
                     })
@@ -267,7 +282,10 @@ impl PaddedRows {
                 start,
                 buckets,
                 blocks,
-                tag: slot.iter().map(|&s| tags[s as usize]).collect(),
+                tag: slot
+                    .iter()
+                    .map(|&s| tags.get(s as usize).map_or(0, |t| *t))
+                    .collect(),
             });
         }
         None
@@ -320,7 +338,7 @@ impl PaddedRows {
                     self.start[row + x0 as usize] as usize,
                     self.start[row + x1 as usize + 1] as usize,
                 );
-                self.scan(lo, hi, ball, |_| true, &mut f);
+                self.scan::<false>(lo, hi, ball, |_| true, &mut f);
             }
             Buckets::Hashed { mask, row_of } => {
                 let row = (iz * ny + iy) as u32;
@@ -332,10 +350,10 @@ impl PaddedRows {
                 // table at least as large as a row is long).
                 let keep = |e: usize| row_of.get(e) == Some(&row);
                 let (lo, hi) = (self.start[h0] as usize, self.start[h1.min(size)] as usize);
-                self.scan(lo, hi, ball, keep, &mut f);
+                self.scan::<true>(lo, hi, ball, keep, &mut f);
                 if h1 > size {
                     let hi = self.start[h1 - size] as usize;
-                    self.scan(0, hi, ball, keep, &mut f);
+                    self.scan::<true>(0, hi, ball, keep, &mut f);
                 }
             }
         }
@@ -343,8 +361,18 @@ impl PaddedRows {
 
     /// Tests entries `lo..hi` against the ball (centre in lanes, squared
     /// radius) and calls `f(atom, tag, d²)` for those inside that `keep`.
+    ///
+    /// Unless `MASKED`, the lanes of the first and last blocks outside
+    /// `lo..hi` are tested too. That is for a full grid's run, which lies
+    /// in one row: its row starts at a block and ends in unused slots, so
+    /// those lanes hold the row's own atoms of x cells outside the ball's
+    /// box (each stored once in the row, and reported only if inside the
+    /// ball, as any other) or unused slots (infinitely far). A hashed
+    /// row's buckets are mixed with other rows', and a row that wraps
+    /// round the table is scanned in two runs that must not overlap, so
+    /// its scans mask.
     #[inline(always)]
-    fn scan(
+    fn scan<const MASKED: bool>(
         &self,
         lo: usize,
         hi: usize,
@@ -358,7 +386,7 @@ impl PaddedRows {
         // Whole blocks, the lanes before `lo` and from `hi` on masked off.
         let last = (hi - 1) / LANES;
         let mut blk = lo / LANES;
-        let mut keep = !0u32 << (lo % LANES);
+        let mut keep = if MASKED { !0u32 << (lo % LANES) } else { !0 };
         loop {
             let Some([bx, by, bz, br]) = self.blocks.get(blk) else {
                 return;
@@ -366,7 +394,7 @@ impl PaddedRows {
             let (dx, dy, dz) = (*bx - px, *by - py, *bz - pz);
             let d2 = dx * dx + dy * dy + dz * dz;
             let mut hits = d2.simd_le(r2).to_bitmask() & keep;
-            if blk == last {
+            if MASKED && blk == last {
                 hits &= (1 << (hi - LANES * blk)) - 1;
             }
             if hits != 0 {
@@ -475,6 +503,33 @@ mod tests {
                 assert_eq!(found(&rows, &atoms, q, margin), brute(&atoms, q, margin));
             }
         }
+    }
+
+    /// A full grid's rows each start at a block (what lets its scans test
+    /// whole blocks), and the slots that pad a row hold no atom.
+    #[test]
+    fn full_grid_rows_start_at_blocks() {
+        let mut rng = Rng(7);
+        let atoms = atoms(&mut rng, 500);
+        let rows = PaddedRows::build(&atoms, &tags(atoms.len()), 3.5, 1.5, false).expect("rows");
+        let [nx, ny, nz] = rows.dims.map(|n| n as usize);
+        let mut padded = 0;
+        for row in 0..ny * nz {
+            let (first, end) = (
+                rows.start[row * nx] as usize,
+                rows.start[(row + 1) * nx] as usize,
+            );
+            assert_eq!(first % LANES, 0, "row {row} starts at {first}");
+            // The row's atoms, then its unused slots: infinitely far.
+            let used = rows.start[(row + 1) * nx - 1] as usize;
+            for e in used..end {
+                let [x, y, z, _] = rows.blocks[e / LANES].map(|v| v.to_array()[e % LANES]);
+                if [x, y, z].iter().all(|v| *v == f32::INFINITY) {
+                    padded += 1;
+                }
+            }
+        }
+        assert!(padded > 0, "no row needed padding");
     }
 
     #[test]
