@@ -23,10 +23,11 @@
 //!
 //! The full grid finds a (row, x cell)'s run of entries in a dense table
 //! over the box ([`Buckets::Dense`]), each row starting at a block so that
-//! a scan tests whole blocks, without masking lanes; the hashed grid in a hash table sized
-//! from the number of entries, a row's x cells in consecutive buckets as in
-//! its own table ([`Buckets::Hashed`]), each entry tagged with its row so a
-//! query skips the entries of other rows that share its buckets.
+//! a scan tests whole blocks without masking lanes; the hashed grid in a
+//! hash table sized from the number of entries, a row's x cells in
+//! consecutive buckets as in its own table ([`Buckets::Hashed`]), each
+//! entry tagged with its row so a query skips the entries of other rows
+//! that share its buckets.
 
 use glam::{Vec3, Vec4};
 use wide::f32x4;
