@@ -53,9 +53,9 @@ const SPACINGS: [f32; 6] = [1.5, 2.0, 2.5, 3.0, 4.5, 6.0];
 #[derive(Debug, Clone)]
 pub struct PaddedRows {
     /// Corner of cell (0, 0, 0), the atoms' smallest coordinates, in lanes
-    /// x, y, z (and 0).
+    /// x, y, z and x again.
     origin: f32x4,
-    /// Reciprocal x-cell edge and row spacing (y, z), and 0.
+    /// Reciprocal x-cell edge, row spacing (y, z) and x-cell edge again.
     inv: f32x4,
     /// Cells along x, rows along y and z.
     dims: [i32; 3],
@@ -276,8 +276,8 @@ impl PaddedRows {
                 })
                 .collect();
             return Some(Self {
-                origin: f32x4::from([lo.x, lo.y, lo.z, 0.0]),
-                inv: f32x4::from([inv_x, inv_e, inv_e, 0.0]),
+                origin: f32x4::from([lo.x, lo.y, lo.z, lo.x]),
+                inv: f32x4::from([inv_x, inv_e, inv_e, inv_x]),
                 dims,
                 margin,
                 start,
@@ -311,23 +311,22 @@ impl PaddedRows {
     #[inline(always)]
     pub fn near(&self, p: Vec3, radius: f32, mut f: impl FnMut(Vec4, u32, f32)) {
         debug_assert!(radius <= self.margin);
-        // The x cells of the ball's box, the y-z square of its centre.
-        let cells = |v: f32x4| {
-            let v = (v - self.origin) * self.inv;
-            let v = v.fast_max(f32x4::splat(-1e9)).fast_min(f32x4::splat(1e9));
-            let t = v.fast_trunc_int().round_float();
-            (t - (t.simd_gt(v) & f32x4::ONE))
-                .fast_trunc_int()
-                .to_array()
-        };
-        let a = cells(f32x4::from([p.x - radius, p.y, p.z, 0.0]));
-        let b = cells(f32x4::from([p.x + radius, p.y, p.z, 0.0]));
+        // The first x cell of the ball's box, the y-z square of its
+        // centre and the last x cell, truncated rather than floored: the
+        // two differ only below the box's corner, where the truncation's
+        // cell 0 is clamped to as the floor's −1 would be, or (the ball's
+        // far side) holds no atom inside the ball, which the scan tests
+        // anyway. Values past i32 (no real point) truncate to i32::MIN: a
+        // ball with its last x cell there is far from every atom, and
+        // returns at once.
+        let v = f32x4::from([p.x - radius, p.y, p.z, p.x + radius]);
+        let [a, iy, iz, b] = ((v - self.origin) * self.inv).fast_trunc_int().to_array();
         let [nx, ny, nz] = self.dims;
-        let (x0, x1) = (a[0].max(0), b[0].min(nx - 1));
+        let (x0, x1) = (a.max(0), b.min(nx - 1));
         if x0 > x1 {
             return;
         }
-        let (iy, iz) = (a[1].clamp(0, ny - 1), a[2].clamp(0, nz - 1));
+        let (iy, iz) = (iy.clamp(0, ny - 1), iz.clamp(0, nz - 1));
         let ball = (
             [p.x, p.y, p.z].map(f32x4::splat),
             f32x4::splat(radius * radius),
