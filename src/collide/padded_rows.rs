@@ -350,10 +350,12 @@ impl PaddedRows {
                 // table at least as large as a row is long).
                 let keep = |e: usize| row_of.get(e) == Some(&row);
                 let (lo, hi) = (self.start[h0] as usize, self.start[h1.min(size)] as usize);
-                self.scan::<true>(lo, hi, ball, keep, &mut f);
                 if h1 > size {
+                    self.scan::<true>(lo, hi, ball, keep, &mut f);
                     let hi = self.start[h1 - size] as usize;
                     self.scan::<true>(0, hi, ball, keep, &mut f);
+                } else {
+                    self.scan::<false>(lo, hi, ball, keep, &mut f);
                 }
             }
         }
@@ -363,14 +365,16 @@ impl PaddedRows {
     /// radius) and calls `f(atom, tag, d²)` for those inside that `keep`.
     ///
     /// Unless `MASKED`, the lanes of the first and last blocks outside
-    /// `lo..hi` are tested too. That is for a full grid's run, which lies
-    /// in one row: its row starts at a block and ends in unused slots, so
+    /// `lo..hi` are tested too. That is for a run of one row's x cells:
     /// those lanes hold the row's own atoms of x cells outside the ball's
-    /// box (each stored once in the row, and reported only if inside the
-    /// ball, as any other) or unused slots (infinitely far). A hashed
-    /// row's buckets are mixed with other rows', and a row that wraps
-    /// round the table is scanned in two runs that must not overlap, so
-    /// its scans mask.
+    /// box, which lie outside the ball (each is stored once in the row,
+    /// and would be reported only if inside it, as any other), or what
+    /// `keep` refuses. A full grid's row starts at a block and ends in
+    /// unused slots (infinitely far); a hashed row's buckets hold other
+    /// rows' entries too, which `keep` refuses. Only a hashed row that
+    /// wraps round the table masks: its two runs may lie within a block
+    /// of each other, and a lane of one would then repeat an atom of the
+    /// other.
     #[inline(always)]
     fn scan<const MASKED: bool>(
         &self,
