@@ -136,8 +136,13 @@ struct Lanes {
     last: [f32x4; 3],
     /// Vertices along y (a vertex index is `(z·ny + y)·nx + x`).
     ny: f32x4,
+    /// Vertices along x.
+    nx: f32x4,
     /// The spacing squared.
     step2: f32x4,
+    /// Whether every vertex index is below 2^24, where f32 holds integers
+    /// exactly.
+    exact_in_f32: bool,
 }
 
 /// Stored value of a clearance `f`: rounded down to 1/32 Å, less
@@ -326,7 +331,9 @@ impl Clearance {
                 origin: [origin.x, origin.y, origin.z].map(f32x4::splat),
                 last: last.map(f32x4::splat),
                 ny: f32x4::splat(ny as f32),
+                nx: f32x4::splat(nx as f32),
                 step2: f32x4::splat(spacing * spacing),
+                exact_in_f32: nx * ny * nz <= 1 << 24,
             },
         })
     }
@@ -474,7 +481,9 @@ impl Clearance {
             origin,
             last,
             ny,
+            nx,
             step2,
+            exact_in_f32,
         } = self.lanes;
         // As `usable`, in lanes.
         let usable = d.simd_gt(f32x4::ZERO) & d.simd_lt(f32x4::splat(CAP - ROUNDING));
@@ -497,21 +506,25 @@ impl Clearance {
             let f = c.round_float();
             (c, f, u - f)
         };
-        let (ix, _, ex) = near(u[0], last[0]);
+        let (ix, cx, ex) = near(u[0], last[0]);
         let (_, cy, ey) = near(u[1], last[1]);
         let (_, cz, ez) = near(u[2], last[2]);
-        // Its index, `row · nx + x` with `row = z · ny + y`: the row in f32
-        // (exact: the build keeps `ny · nz` within 2^24), the rest in
-        // integers, since a map may have up to 2^26 vertices and in f32 an
-        // index past 2^24 rounds to a neighbouring vertex, whose value can
-        // prove a point that is not clear.
-        let row = (cz * ny + cy).fast_trunc_int().to_array();
-        let x = ix.to_array();
-        let nx = self.dims[0];
-        let value = |k: usize| {
-            let index = row[k] as usize * nx + x[k] as usize;
-            i32::from(self.values.get(index).copied().unwrap_or(0))
+        // Its index, `row · nx + x` with `row = z · ny + y`. In f32 where
+        // every index is below 2^24 (exact there: one conversion for all
+        // four); else the row in f32 (exact: the build keeps `ny · nz`
+        // within 2^24) and the rest in integers, since a map may have up
+        // to 2^26 vertices and in f32 an index past 2^24 rounds to a
+        // neighbouring vertex, whose value can prove a point that is not
+        // clear.
+        let row = cz * ny + cy;
+        let index: [usize; 4] = if exact_in_f32 {
+            (row * nx + cx).fast_trunc_int().to_array().map(|i| i as usize)
+        } else {
+            let (row, x) = (row.fast_trunc_int().to_array(), ix.to_array());
+            let nx = self.dims[0];
+            std::array::from_fn(|k| row[k] as usize * nx + x[k] as usize)
         };
+        let value = |k: usize| i32::from(self.values.get(index[k]).copied().unwrap_or(0));
         let v = i32x4::from([value(0), value(1), value(2), value(3)]).round_float();
         let room = v * f32x4::splat(1.0 / SCALE) - (d + f32x4::splat(ROUNDING));
         let e2 = (ex * ex + ey * ey + ez * ez) * step2;
