@@ -197,11 +197,15 @@ impl PaddedRows {
             if entries > max_entries as u64 {
                 continue;
             }
-            // A hash table of at least one bucket per entry (and per x cell,
-            // so no row's buckets overlap themselves): the (row, x cell)s
-            // holding entries, some twenty entries each inside a protein,
-            // then rarely share a bucket.
-            let size = (entries as usize)
+            // A hash table of at least two buckets per entry (and one per x
+            // cell, so no row's buckets overlap themselves): the (row, x
+            // cell)s holding entries, some twenty entries each inside a
+            // protein, then rarely share a bucket. With one bucket per
+            // entry, other rows' entries made a sixth of those a search on
+            // 1rx1's surface patches scanned (474 entries in 146 blocks for
+            // its 36 searches, against 385 in 123 with two; the full grid's
+            // 405 in 117), and the hashed queries 1 % slower.
+            let size = (2 * entries as usize)
                 .max(nx as usize)
                 .next_power_of_two()
                 .max(64);
