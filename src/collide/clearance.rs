@@ -518,7 +518,10 @@ impl Clearance {
         // clear.
         let row = cz * ny + cy;
         let index: [usize; 4] = if exact_in_f32 {
-            (row * nx + cx).fast_trunc_int().to_array().map(|i| i as usize)
+            (row * nx + cx)
+                .fast_trunc_int()
+                .to_array()
+                .map(|i| i as usize)
         } else {
             let (row, x) = (row.fast_trunc_int().to_array(), ix.to_array());
             let nx = self.dims[0];
