@@ -561,11 +561,11 @@ impl Collider {
     ///
     /// # Performance
     /// The grids answer a ball up to their padded rows' margin from one
-    /// run of one row (or two, where a hashed row wraps). Each run of stored atoms is tested four at a time with the lanes
-    /// past its end masked off, so the cost per row of cells is nearly
-    /// constant and free of mispredicted loop exits. The hashed grid's
-    /// check that an atom belongs to the row (buckets are shared) is paid
-    /// only by atoms inside the ball.
+    /// run of one row (or two, where a hashed row wraps), tested four
+    /// stored atoms at a time in whole blocks (lanes outside the run are
+    /// masked only where a hashed row wraps), so the cost per run is
+    /// nearly constant. The hashed grid's check that an atom belongs to
+    /// the row (buckets are shared) is paid only by atoms inside the ball.
     #[inline]
     pub fn near<F: FnMut(Vec4, u32, f32)>(&self, p: Vec3, radius: f32, f: F) {
         match self.padded_rows() {
