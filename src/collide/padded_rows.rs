@@ -391,7 +391,8 @@ impl PaddedRows {
         if lo >= hi {
             return;
         }
-        // Whole blocks, the lanes before `lo` and from `hi` on masked off.
+        // Whole blocks; if `MASKED`, the lanes before `lo` and from `hi`
+        // on masked off.
         let last = (hi - 1) / LANES;
         let mut blk = lo / LANES;
         let mut keep = if MASKED { !0u32 << (lo % LANES) } else { !0 };
@@ -530,9 +531,10 @@ mod tests {
                 rows.start[(row + 1) * nx] as usize,
             );
             assert_eq!(first % LANES, 0, "row {row} starts at {first}");
-            // The row's atoms, then its unused slots: infinitely far.
-            let used = rows.start[(row + 1) * nx - 1] as usize;
-            for e in used..end {
+            // The row's last cell: its atoms, then the row's unused slots,
+            // infinitely far.
+            let last_cell = rows.start[(row + 1) * nx - 1] as usize;
+            for e in last_cell..end {
                 let [x, y, z, _] = rows.blocks[e / LANES].map(|v| v.to_array()[e % LANES]);
                 if [x, y, z].iter().all(|v| *v == f32::INFINITY) {
                     padded += 1;
