@@ -4,11 +4,11 @@
 //! (brute force, full grid or hashed grid; the grids also in
 //! [`padded_rows`]) and keeps a [`clearance`] map of the space around it;
 //! [`drug`] prepares a drug's atoms for queries, four at a time in
-//! compact groups ([`grouping`]); [`mod@check`] answers static queries; [`sweep`] moves the drug to touch
-//! without tunnelling; [`response`] turns a proposed step into the
-//! session's answer (stop, touch, slide, pass);
-//! [`stats`] measures grid occupancy (the thesis's Table 1); [`oracle`] gives
-//! exact f64 answers to measure move-to-touch against.
+//! compact groups ([`grouping`]); [`mod@check`] answers static queries;
+//! [`sweep`] moves the drug to touch without tunnelling; [`response`]
+//! turns a proposed step into the session's answer (stop, touch, slide,
+//! pass); [`stats`] measures grid occupancy (the thesis's Table 1);
+//! [`oracle`] gives exact f64 answers to measure move-to-touch against.
 
 pub mod check;
 pub mod clearance;

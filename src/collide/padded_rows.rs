@@ -517,7 +517,8 @@ mod tests {
     }
 
     /// A full grid's rows each start at a block (what lets its scans test
-    /// whole blocks), and the slots that pad a row hold no atom.
+    /// whole blocks): each row's atoms, then fewer than a block of unused
+    /// slots, infinitely far; and every atom of the row is a real one.
     #[test]
     fn full_grid_rows_start_at_blocks() {
         let mut rng = Rng(7);
@@ -531,15 +532,30 @@ mod tests {
                 rows.start[(row + 1) * nx] as usize,
             );
             assert_eq!(first % LANES, 0, "row {row} starts at {first}");
-            // The row's last cell: its atoms, then the row's unused slots,
-            // infinitely far.
-            let last_cell = rows.start[(row + 1) * nx - 1] as usize;
-            for e in last_cell..end {
-                let [x, y, z, _] = rows.blocks[e / LANES].map(|v| v.to_array()[e % LANES]);
-                if [x, y, z].iter().all(|v| *v == f32::INFINITY) {
-                    padded += 1;
-                }
+            let entry = |e: usize| rows.blocks[e / LANES].map(|v| v.to_array()[e % LANES]);
+            let unused = |e: usize| entry(e)[..3].iter().all(|v| *v == f32::INFINITY);
+            // The row's real entries first, each an atom as stored.
+            let used = (first..end).take_while(|&e| !unused(e)).count();
+            for e in first..first + used {
+                let tag = rows.tag[e] as usize;
+                assert_eq!(
+                    Vec4::from_array(entry(e)),
+                    atoms[tag],
+                    "row {row} entry {e}"
+                );
             }
+            // Then its padding, to the next block: nothing else.
+            assert!(
+                (first + used..end).all(unused),
+                "row {row}: an atom after padding"
+            );
+            assert_eq!(end % LANES, 0, "row {row} ends at {end}");
+            assert!(
+                end - first - used < LANES,
+                "row {row}: {} unused",
+                end - first - used
+            );
+            padded += end - first - used;
         }
         assert!(padded > 0, "no row needed padding");
     }
