@@ -516,16 +516,18 @@ impl Clearance {
         // to 2^26 vertices and in f32 an index past 2^24 rounds to a
         // neighbouring vertex, whose value can prove a point that is not
         // clear.
+        // The indices are not negative (the vertex is clamped into the
+        // lattice), so they widen without sign extension.
         let row = cz * ny + cy;
         let index: [usize; 4] = if exact_in_f32 {
             (row * nx + cx)
                 .fast_trunc_int()
                 .to_array()
-                .map(|i| i as usize)
+                .map(|i| i as u32 as usize)
         } else {
             let (row, x) = (row.fast_trunc_int().to_array(), ix.to_array());
             let nx = self.dims[0];
-            std::array::from_fn(|k| row[k] as usize * nx + x[k] as usize)
+            std::array::from_fn(|k| row[k] as u32 as usize * nx + x[k] as u32 as usize)
         };
         let value = |k: usize| i32::from(self.values.get(index[k]).copied().unwrap_or(0));
         let v = i32x4::from([value(0), value(1), value(2), value(3)]).round_float();
