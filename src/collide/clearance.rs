@@ -515,9 +515,8 @@ impl Clearance {
         // within 2^24) and the rest in integers, since a map may have up
         // to 2^26 vertices and in f32 an index past 2^24 rounds to a
         // neighbouring vertex, whose value can prove a point that is not
-        // clear.
-        // The indices are not negative (the vertex is clamped into the
-        // lattice), so they widen without sign extension.
+        // clear. The indices are not negative (the vertex is clamped into
+        // the lattice), so they widen without sign extension.
         let row = cz * ny + cy;
         let index: [usize; 4] = if exact_in_f32 {
             (row * nx + cx)
