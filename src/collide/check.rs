@@ -14,7 +14,7 @@ use glam::{DMat3, DQuat, DVec3, Vec3};
 use serde::Serialize;
 use wide::f32x4;
 
-use super::clearance::{Clearance, Nearest4};
+use super::clearance::Clearance;
 use super::collider::{Collider, unpack_meta};
 use super::drug::{DrugAtoms, Turn4};
 use super::rule::{reported_distance, within};
@@ -83,9 +83,7 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
                 .as_ref()
                 .map_or(balls.centre, |m| m.apply(balls.centre));
             let c = [0, 1, 2].map(|k| c[k] + t4[k]);
-            todo &= !map
-                .clear_nearest4(c, balls.reach + f32x4::splat(extra_room))
-                .proved;
+            todo &= !map.clear_nearest4(c, balls.reach + f32x4::splat(extra_room));
         }
         while todo != 0 {
             let g = 4 * s + todo.trailing_zeros() as usize;
@@ -111,10 +109,9 @@ fn visit_group<F: FnMut(Pair) -> bool>(
     f: &mut F,
 ) -> bool {
     let extra_room = extra.max(0.0);
-    // Four atoms at a time against the map's nearest corners, in lanes (as
+    // Four atoms at a time against the map's nearest vertices, in lanes (as
     // move-to-touch does; testing one atom at a time took a quarter of a
-    // check's instructions), then the eight corners for those it leaves
-    // open; an atom neither proves clear is searched.
+    // check's instructions); an atom it does not prove clear is searched.
     let count = (drug.len() - 4 * g).min(4);
     let mut at = [Vec3::ZERO; 4];
     for (l, x) in at.iter_mut().enumerate().take(count) {
@@ -122,14 +119,12 @@ fn visit_group<F: FnMut(Pair) -> bool>(
     }
     // Nothing within `c + extra` of an atom: no search.
     let d = drug.own_four(g).map(|own| own + extra_room);
-    let Nearest4 { proved, open } = clearance.map_or(Nearest4::NONE, |map| {
+    let proved = clearance.map_or(0, |map| {
         let lanes = |k: usize| f32x4::from(at.map(|x| x[k]));
         map.clear_nearest4([lanes(0), lanes(1), lanes(2)], f32x4::from(d))
     });
     for (l, &x) in at.iter().enumerate().take(count) {
-        if proved & (1 << l) != 0
-            || (open & (1 << l) != 0 && clearance.is_some_and(|map| map.clear_corners(x, d[l])))
-        {
+        if proved & (1 << l) != 0 {
             continue;
         }
         // As `drug.contact(i, ..)`, its parts looked up once per atom.

@@ -18,10 +18,8 @@
 //! map proves that far from every receptor atom (in a pure translation,
 //! four groups' bounding balls are tested at once, against the box and then
 //! the map, before any atom is placed), and an atom whose ball the map
-//! proves empty has none either (by the nearest lattice corners of four
-//! atoms at once,
-//! [`super::clearance::Clearance::clear_nearest4`], then the eight corners,
-//! [`super::clearance::Clearance::clear_corners`], for those left). Neither
+//! proves empty has none either (by the nearest lattice vertices of four
+//! atoms at once, [`super::clearance::Clearance::clear_nearest4`]). Neither
 //! test changes the answer, only what it costs. Intervals are taken in order
 //! and the first hit ends the search.
 //!

@@ -9,7 +9,6 @@ use wide::f32x4;
 use super::pair::{Mover, may_collide};
 use super::{TouchResult, deepens, finish, violates};
 use crate::collide::check::{Pair, check, pairs_within};
-use crate::collide::clearance::Nearest4;
 use crate::collide::collider::{Collider, PlainSearch, RowSearch, Search, unpack_meta};
 use crate::collide::drug::{Balls4, DrugAtoms, Lanes3, Turn4};
 use crate::collide::rule::{reported_distance, within};
@@ -310,8 +309,8 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
             let rot_m = turned(tm).unwrap_or(DMat3::IDENTITY);
             // Four atoms at a time: their group's ball against the grown box
             // (a translation), the atoms placed and against the box, then
-            // against the map's nearest corners together; only those it
-            // leaves get the eight-corner test and, failing that, the search.
+            // against the map's nearest vertices together; only those it
+            // leaves get the search.
             let cm32 = cm.as_vec3();
             let shared_slack = (centre_speed * half + tol) as f32 + 1e-3;
             let shared_slack4 = f32x4::splat(shared_slack);
@@ -359,7 +358,7 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
                     if todo.count_ones() > 1
                         && let Some(map) = clearance
                     {
-                        todo &= !map.clear_nearest4(centre, b.reach + shared_slack4).proved;
+                        todo &= !map.clear_nearest4(centre, b.reach + shared_slack4);
                     }
                 }
                 while todo != 0 {
@@ -391,24 +390,15 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
                     // Nothing within reach over the whole interval: no search.
                     // (Every candidate below has `|q − xm| ≤ r_q + own + slack`.)
                     let d = f32x4::from(drug.own_four(g)) + slack;
-                    let Nearest4 { proved, open } =
-                        clearance.map_or(Nearest4::NONE, |map| map.clear_nearest4(p, d));
+                    let proved = clearance.map_or(0, |map| map.clear_nearest4(p, d));
                     if proved == (1 << count) - 1 {
                         continue;
                     }
                     let slack = slack.to_array();
-                    let (px, py, pz, d) = (
-                        p[0].to_array(),
-                        p[1].to_array(),
-                        p[2].to_array(),
-                        d.to_array(),
-                    );
+                    let (px, py, pz) = (p[0].to_array(), p[1].to_array(), p[2].to_array());
                     for l in 0..count {
                         let xm32 = Vec3::new(px[l], py[l], pz[l]);
-                        if proved & (1 << l) != 0
-                            || (open & (1 << l) != 0
-                                && clearance.is_some_and(|map| map.clear_corners(xm32, d[l])))
-                        {
+                        if proved & (1 << l) != 0 {
                             continue;
                         }
                         // As `drug.contact(i, ..)`, its parts looked up
