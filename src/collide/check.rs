@@ -169,11 +169,15 @@ pub fn pairs_within(collider: &Collider, drug: &DrugAtoms, rel: &Pose, extra: f3
         sort_pairs(found);
         found.to_vec()
     };
-    FOUND.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut found) => gather(&mut found),
-        // Re-entered (never, today): a fresh buffer.
-        Err(_) => gather(&mut Vec::new()),
-    })
+    // A fresh buffer when re-entered (never, today) or while the thread is
+    // being torn down (where `with` would panic).
+    let mut out = None;
+    let _ = FOUND.try_with(|cell| {
+        if let Ok(mut found) = cell.try_borrow_mut() {
+            out = Some(gather(&mut found));
+        }
+    });
+    out.unwrap_or_else(|| gather(&mut Vec::new()))
 }
 
 thread_local! {

@@ -116,11 +116,21 @@ pub(super) fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f
         ),
         None => by_motion(scratch, collider, &PlainSearch(collider), drug, screw, tol),
     };
-    SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut scratch) => run(&mut scratch),
+    // `try_with` rather than `with`, which panics while the thread is being
+    // torn down (fresh buffers then); and the result is written in place
+    // rather than returned through it, which copied its 136 bytes twice
+    // more (13 instructions a query).
+    let mut out = None;
+    let _ = SCRATCH.try_with(|cell| {
         // Re-entered from inside a query (never, today): fresh buffers.
-        Err(_) => run(&mut Scratch::default()),
-    })
+        if let Ok(mut scratch) = cell.try_borrow_mut() {
+            out = Some(run(&mut scratch));
+        }
+    });
+    match out {
+        Some(result) => result,
+        None => run(&mut Scratch::default()),
+    }
 }
 
 /// [`swept_with`] for the kind of motion `screw` is: a translation gets
