@@ -26,7 +26,8 @@
 //! left: it cost more than the searches it saved (it proved 42 % of the
 //! points it was asked about on 1rx1's surface approaches, at 0.56 searches'
 //! cost each), and without it a move-to-touch query took 3–9 % fewer
-//! instructions on every receptor (`docs/benchmarks.md`).
+//! instructions on the five receptors' surface approaches, 6 % on DHFR's
+//! and 0.7 % on the E's (`docs/benchmarks.md`).
 //!
 //! The lattice spacing is 0.25 Å (`FINEST`) unless that would take more
 //! than [`MAX_VERTICES`] vertices (one byte each); larger receptors get a
