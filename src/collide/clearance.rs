@@ -10,8 +10,11 @@
 //! the queries take the vertex nearest `x`, four points at a time
 //! ([`Clearance::clear_nearest4`]). Beyond the lattice, which covers the
 //! atoms' box grown by `CAP` plus the largest radius and one more spacing,
-//! `f` is at least `CAP`; a point there is measured from the nearest vertex
-//! on the lattice's edge, which proves it if it lies near enough.
+//! `f` is at least `CAP`: a point more than half a spacing beyond it (its
+//! offset from the nearest vertex, clamped into the lattice, then exceeds
+//! any that a point inside can have) is proved clear of every threshold
+//! the map answers; one nearer is measured from the nearest vertex on the
+//! edge.
 //!
 //! Most drug atoms in a pocket have no receptor atom within their reach
 //! (on trimethoprim/DHFR move-to-touch, 80 % of them), and the nearest
@@ -120,6 +123,10 @@ struct Lanes {
     nx: f32x4,
     /// The spacing squared.
     step2: f32x4,
+    /// Three quarters of it: a point whose squared distance from its
+    /// nearest vertex is larger lies more than half a spacing beyond the
+    /// lattice, where the clearance exceeds [`CAP`].
+    beyond: f32x4,
     /// Whether every vertex index is below 2^24, where f32 holds integers
     /// exactly.
     exact_in_f32: bool,
@@ -313,6 +320,7 @@ impl Clearance {
                 ny: f32x4::splat(ny as f32),
                 nx: f32x4::splat(nx as f32),
                 step2: f32x4::splat(spacing * spacing),
+                beyond: f32x4::splat(0.75 * (spacing * spacing)),
                 exact_in_f32: nx * ny * nz <= 1 << 24,
             },
         })
@@ -320,7 +328,8 @@ impl Clearance {
 
     /// True when every receptor atom's surface is farther than `d` from `x`
     /// (`|x − q_j| − r_j > d` for all `j`), as far as the lattice vertex
-    /// nearest `x` can prove it; false when it cannot (or for `d ≤ 0`,
+    /// nearest `x` can prove it, or `x` lies more than half a spacing
+    /// beyond the lattice; false when neither holds (or for `d ≤ 0`,
     /// `d ≥ CAP`, or a NaN).
     ///
     /// The queries ask four points at a time
@@ -332,9 +341,11 @@ impl Clearance {
         }
         let (index, e2) = self.nearest(x);
         let value = f32::from(self.values.get(index).copied().unwrap_or(0));
-        // value − need > distance, both sides squared (the left positive).
+        // value − need > distance, both sides squared (the left positive);
+        // or the point lies beyond the lattice, farther from every atom
+        // than the cap.
         let room = value * (1.0 / SCALE) - (d + ROUNDING);
-        room > 0.0 && room * room > e2
+        (room > 0.0 && room * room > e2) || e2 > self.lanes.beyond.as_array()[0]
     }
 
     /// The index of the lattice vertex nearest `x` (clamped into the
@@ -372,6 +383,7 @@ impl Clearance {
             ny,
             nx,
             step2,
+            beyond,
             exact_in_f32,
         } = self.lanes;
         // As `usable`, in lanes.
@@ -421,7 +433,8 @@ impl Clearance {
         let e2 = (ex * ex + ey * ey + ez * ez) * step2;
         // value − need > spacing · distance, both sides squared (the left
         // positive), so no square roots.
-        let proved = usable & room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(e2);
+        let proved =
+            usable & ((room.simd_gt(f32x4::ZERO) & (room * room).simd_gt(e2)) | e2.simd_gt(beyond));
         proved.to_bitmask() & 0b1111
     }
 
@@ -665,19 +678,28 @@ mod tests {
     fn edges_and_absurd_input() {
         let atoms = [Vec4::new(0.0, 0.0, 0.0, 1.5), Vec4::new(3.0, 0.0, 0.0, 1.7)];
         let map = Clearance::build(&atoms).expect("atoms");
-        // Far beyond the lattice the nearest edge vertex proves nothing (a
-        // query then searches, and finds nothing); just past it, it does.
+        // More than half a spacing beyond the lattice (where the clearance
+        // exceeds the cap) every usable threshold is proved, at any
+        // distance; a NaN point proves nothing.
         for x in [
             Vec3::new(100.0, 0.0, 0.0),
             Vec3::new(-1e30, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 1e30),
             Vec3::splat(f32::INFINITY),
             Vec3::splat(f32::NEG_INFINITY),
-            Vec3::splat(f32::NAN),
         ] {
-            assert!(!map.clear(x, 1.0), "{x}");
+            assert!(map.clear(x, 1.0), "{x}");
+            assert!(map.clear(x, CAP - 2.0 * ROUNDING), "{x}");
         }
+        assert!(!map.clear(Vec3::splat(f32::NAN), 1.0));
+        assert!(!map.clear(Vec3::new(0.0, f32::NAN, 100.0), 1.0));
+        // Just within half a spacing of the edge, the edge vertex's own
+        // value (the cap) proves a threshold below it less the distance,
+        // and not one above.
         let edge = map.origin.x + (map.dims[0] - 1) as f32 * map.spacing;
-        assert!(map.clear(Vec3::new(edge + 0.5, 0.0, 0.0), 1.0));
+        let x = Vec3::new(edge + 0.4 * map.spacing, 0.0, 0.0);
+        assert!(map.clear(x, CAP - 0.5 * map.spacing - 0.05));
+        assert!(!map.clear(x, CAP - 0.3 * map.spacing));
         assert!(!map.clear(Vec3::new(100.0, 0.0, 0.0), 0.0));
         assert!(!map.clear(Vec3::new(100.0, 0.0, 0.0), CAP));
         assert!(!map.clear(Vec3::new(100.0, 0.0, 0.0), f32::NAN));

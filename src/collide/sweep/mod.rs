@@ -13,14 +13,15 @@
 //! `s_i·Δt/2`, so the collider's box query around that ball finds every
 //! receptor atom it could reach (nothing is skipped, however long the step).
 //! Atoms are taken four at a time (a group), and most never get that far: a
-//! group wholly outside the receptor's box grown by its reach and sweep has
-//! no candidates, nor has one whose bounding ball the collider's clearance
-//! map proves that far from every receptor atom (in a pure translation,
-//! four groups' bounding balls are tested at once, against the box and then
-//! the map, before any atom is placed), and an atom whose ball the map
-//! proves empty has none either (by the nearest lattice vertices of four
-//! atoms at once, [`super::clearance::Clearance::clear_nearest4`]). Neither
-//! test changes the answer, only what it costs. Intervals are taken in order
+//! group whose bounding ball lies wholly outside the receptor's box grown by
+//! its reach and sweep (tested while the drug's centre is outside that box),
+//! or whose ball the collider's clearance map proves far enough from every
+//! receptor atom, has no candidates (in a pure translation, four groups'
+//! bounding balls are tested at once, before any atom is placed), and an
+//! atom whose ball the map proves empty has none either (by the nearest
+//! lattice vertices of four atoms at once,
+//! [`super::clearance::Clearance::clear_nearest4`]). No test changes the
+//! answer, only what it costs. Intervals are taken in order
 //! and the first hit ends the search.
 //!
 //! For each candidate pair the first time its gap reaches the target is found
