@@ -28,7 +28,8 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use bump::collide::{
-    Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, check, move_to_touch,
+    Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, TouchResult, check,
+    move_to_touch, move_to_touch_into,
 };
 use bump::model::{self, LigandSpec, LoadOptions, Molecule};
 use bump::motion::{Pose, Screw};
@@ -221,11 +222,20 @@ fn dhfr(c: &mut Criterion) {
         })
     });
     let mut k = 0;
+    let mut contacts = Vec::new();
     g.bench_function(BenchmarkId::new("touch_1A", "parry3d-contacts"), |b| {
         b.iter(|| {
             let (s, e) = &queries[k % queries.len()];
             k += 1;
-            black_box(parry::touch(&rec, &dr, s, black_box(e), 1e-3))
+            black_box(parry::touch(
+                &rec,
+                &dr,
+                s,
+                black_box(e),
+                1e-3,
+                &mut contacts,
+            ));
+            black_box(&contacts);
         })
     });
     // The same steps with a 10° turn about the drug's centre: a screw
@@ -294,11 +304,15 @@ fn touch_cycle(
     opts: &TouchOptions,
 ) {
     let mut k = 0;
+    // One result, its storage reused, as a loop of queries can keep it
+    // (`move_to_touch_into`).
+    let mut result = TouchResult::default();
     g.bench_function(id, |b| {
         b.iter(|| {
             let (s, e) = &queries[k % queries.len()];
             k += 1;
-            black_box(move_to_touch(col, atoms, s, e, opts))
+            move_to_touch_into(col, atoms, s, e, opts, &mut result);
+            black_box(&result);
         })
     });
 }
@@ -349,15 +363,16 @@ fn scaling(c: &mut Criterion) {
                 .map(|p| DrugAtoms::new(&p.drug, rule, col.max_radius()))
                 .collect()
         };
-        let touch = |col: &Collider, atoms: &[DrugAtoms], opts: &TouchOptions, k: usize| {
+        // The result's storage is reused, as a loop of queries can keep it
+        // (`move_to_touch_into`).
+        let touch = |col: &Collider,
+                     atoms: &[DrugAtoms],
+                     opts: &TouchOptions,
+                     k: usize,
+                     result: &mut TouchResult| {
             let (s, e) = &steps[k];
-            drop(black_box(move_to_touch(
-                col,
-                &atoms[k],
-                s,
-                black_box(e),
-                opts,
-            )));
+            move_to_touch_into(col, &atoms[k], s, black_box(e), opts, result);
+            black_box(result);
         };
         for kind in ColliderKind::ALL {
             let col = ready(Collider::build(&receptor, &rule, kind));
@@ -378,9 +393,10 @@ fn scaling(c: &mut Criterion) {
                     method,
                     ..TouchOptions::default()
                 };
+                let mut result = TouchResult::default();
                 g.bench_function(
                     BenchmarkId::new(format!("{name}-{}", kind.name()), &label),
-                    |b| cycle(b, &mut |k| touch(&col, &atoms, &opts, k)),
+                    |b| cycle(b, &mut |k| touch(&col, &atoms, &opts, k, &mut result)),
                 );
             }
         }
@@ -406,8 +422,9 @@ fn scaling(c: &mut Criterion) {
         let col = ready(Collider::build(&receptor, &parry_rule, ColliderKind::Grid));
         let atoms = drug_atoms(&col, &parry_rule);
         let opts = TouchOptions::default();
+        let mut result = TouchResult::default();
         g.bench_function(BenchmarkId::new("touch-grid-parry-rule", &label), |b| {
-            cycle(b, &mut |k| touch(&col, &atoms, &opts, k))
+            cycle(b, &mut |k| touch(&col, &atoms, &opts, k, &mut result))
         });
         g.bench_function(BenchmarkId::new("check-parry3d", &label), |b| {
             cycle(b, &mut |k| {
@@ -425,16 +442,19 @@ fn scaling(c: &mut Criterion) {
                 black_box(parry::cast(&rec, &drugs[k], s, black_box(e)));
             })
         });
+        let mut contacts = Vec::new();
         g.bench_function(BenchmarkId::new("touch-parry3d-contacts", &label), |b| {
             cycle(b, &mut |k| {
                 let (s, e) = &steps[k];
-                drop(black_box(parry::touch(
+                black_box(parry::touch(
                     &rec,
                     &drugs[k],
                     s,
                     black_box(e),
                     1e-3,
-                )));
+                    &mut contacts,
+                ));
+                black_box(&contacts);
             })
         });
     }

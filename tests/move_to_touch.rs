@@ -9,7 +9,8 @@ mod common;
 mod parry;
 
 use bump::collide::{
-    Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, move_to_touch,
+    Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, TouchResult,
+    move_to_touch, move_to_touch_into,
 };
 use bump::model::Molecule;
 use bump::motion::{Pose, Screw};
@@ -181,7 +182,7 @@ fn agrees_with_parry3d_shape_casts() {
             }
         }
         let parry_t = if !rotate {
-            let (t, _) = parry::touch(&rec, &dr, &start, &end, 1e-3);
+            let t = parry::touch(&rec, &dr, &start, &end, 1e-3, &mut Vec::new());
             (t < 1.0).then_some(t)
         } else {
             // A screw is parry's nonlinear motion about a point on the screw axis.
@@ -421,6 +422,58 @@ fn stress_cases_never_overlap_nan_or_panic() {
         let rb = move_to_touch(&c, &d, &start, &bad, &opts);
         assert_eq!(rb.t, 0.0);
     }
+}
+
+/// One result passed to `move_to_touch_into` query after query (stops with
+/// contacts, free steps, colliding starts, both methods, a pose out of
+/// reach) holds exactly what a fresh `move_to_touch` answers each time:
+/// nothing of an earlier answer is left in it.
+#[test]
+fn a_reused_result_answers_as_a_fresh_one() {
+    let rule = ContactRule::default();
+    let mut rng = Rng(2024);
+    let s = setup(&mut rng, 300, 12, true, rule);
+    let mut reused = TouchResult::default();
+    let (mut stopped, mut free, mut colliding) = (0, 0, 0);
+    for k in 0..240 {
+        let (start, end) = match k % 6 {
+            // Buried in the receptor: the start collides.
+            4 => (
+                Pose::IDENTITY,
+                Pose::IDENTITY.moved(rng.unit() * 2.0, rng.unit(), 0.3),
+            ),
+            5 if k % 12 == 5 => (
+                Pose::IDENTITY,
+                Pose::from_translation(DVec3::splat(f64::NAN)),
+            ),
+            _ => random_query(&mut rng, &s, k % 3 == 1),
+        };
+        let method = if k % 7 == 3 {
+            Method::Thesis
+        } else {
+            Method::Swept
+        };
+        let opts = TouchOptions {
+            method,
+            ..TouchOptions::default()
+        };
+        for col in &s.cols {
+            let fresh = move_to_touch(col, &s.atoms, &start, &end, &opts);
+            move_to_touch_into(col, &s.atoms, &start, &end, &opts, &mut reused);
+            assert_eq!(fresh.t.to_bits(), reused.t.to_bits(), "query {k}");
+            assert_eq!(fresh.pose, reused.pose, "query {k}");
+            assert_eq!(fresh.contacts, reused.contacts, "query {k}");
+            assert_eq!(fresh.colliding, reused.colliding, "query {k}");
+            assert_eq!(fresh.start_colliding, reused.start_colliding, "query {k}");
+            stopped += usize::from(fresh.t < 1.0 && !fresh.contacts.is_empty());
+            free += usize::from(fresh.contacts.is_empty());
+            colliding += usize::from(fresh.start_collides());
+        }
+    }
+    assert!(
+        stopped > 100 && free > 20 && colliding > 20,
+        "{stopped} {free} {colliding}"
+    );
 }
 
 #[test]

@@ -27,4 +27,4 @@ pub use collider::{Collider, ColliderKind};
 pub use drug::DrugAtoms;
 pub use response::{Response, StepResult, respond};
 pub use rule::ContactRule;
-pub use sweep::{Method, TouchOptions, TouchResult, move_to_touch};
+pub use sweep::{Method, TouchOptions, TouchResult, move_to_touch, move_to_touch_into};

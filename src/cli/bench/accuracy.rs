@@ -223,7 +223,8 @@ fn measure(ctx: &Context, rule: &ContactRule, case: &Case, kind: Kind) -> Row {
             Kind::Parry => parry::cast(&rec, &dr, s, e),
             #[cfg(feature = "parry")]
             Kind::ParryTouch => {
-                let (t, contacts) = parry::touch(&rec, &dr, s, e, 1e-3);
+                let mut contacts = Vec::new();
+                let t = parry::touch(&rec, &dr, s, e, 1e-3, &mut contacts);
                 std::hint::black_box(&contacts);
                 t
             }

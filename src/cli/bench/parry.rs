@@ -79,10 +79,26 @@ pub fn cast(rec: &Spheres, dr: &Spheres, start: &Pose, end: &Pose) -> f64 {
 
 /// The (receptor, drug) leaf pairs whose sphere gap is at most `tolerance`
 /// with the drug at `at`, sorted by receptor then drug (as bump's pairs).
+// Only the test and the criterion bench that include this file ask for
+// the list on its own.
+#[allow(dead_code)]
 pub fn contacts(rec: &Spheres, dr: &Spheres, at: &Pose, tolerance: f32) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    contacts_into(rec, dr, at, tolerance, &mut out);
+    out
+}
+
+/// [`contacts`] into `out` (emptied first), whose storage is reused.
+pub fn contacts_into(
+    rec: &Spheres,
+    dr: &Spheres,
+    at: &Pose,
+    tolerance: f32,
+    out: &mut Vec<(u32, u32)>,
+) {
+    out.clear();
     let place = pose(at);
     let bvh = rec.compound.bvh();
-    let mut out = Vec::new();
     for (j, (c, r)) in dr.centres.iter().zip(&dr.radii).enumerate() {
         let x = place.transform_point(*c);
         // A leaf box (q ± r_i) meets this one iff |q − x|∞ ≤ r_i + r_j + tol.
@@ -97,23 +113,26 @@ pub fn contacts(rec: &Spheres, dr: &Spheres, at: &Pose, tolerance: f32) -> Vec<(
         }
     }
     out.sort_unstable();
-    out
 }
 
 /// What bump's move-to-touch answers, done with parry3d: the fraction of the
 /// translation from `start` to `end` allowed ([`cast`]) and the pairs within
-/// `tolerance` of contact there ([`contacts`]).
+/// `tolerance` of contact there ([`contacts`]), those into `contacts`
+/// (emptied first, its storage reused, as bump's timed queries reuse
+/// theirs).
 pub fn touch(
     rec: &Spheres,
     dr: &Spheres,
     start: &Pose,
     end: &Pose,
     tolerance: f32,
-) -> (f64, Vec<(u32, u32)>) {
+    contacts: &mut Vec<(u32, u32)>,
+) -> f64 {
     let t = cast(rec, dr, start, end);
     let at = Pose::new(
         start.rotation,
         start.translation + (end.translation - start.translation) * t,
     );
-    (t, contacts(rec, dr, &at, tolerance))
+    contacts_into(rec, dr, &at, tolerance, contacts);
+    t
 }

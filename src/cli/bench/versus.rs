@@ -20,7 +20,10 @@
 use std::time::Instant;
 
 use bump::collide::oracle::{closed_form_touch, min_gap};
-use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, TouchOptions, move_to_touch};
+use bump::collide::{
+    Collider, ColliderKind, ContactRule, DrugAtoms, TouchOptions, TouchResult, move_to_touch,
+    move_to_touch_into,
+};
 use bump::motion::Pose;
 
 use super::parry::{self, Spheres};
@@ -120,6 +123,10 @@ fn measure(ctx: &Context, file: &str, receptor: &bump::model::Molecule) -> Optio
     // `cycles` passes over the patches (about a thousand queries).
     let (rounds, cycles) = if ctx.quick { (3, 2) } else { (41, 64) };
     let mut times: [Vec<f64>; 5] = Default::default();
+    // Each side keeps its answer's storage from query to query, as a
+    // loop of queries can: bump's result, parry3d's contact list.
+    let mut result = TouchResult::default();
+    let mut contacts = Vec::new();
     let per_query = 1e6 / (cycles * steps.len()) as f64;
     // Round 0 warms the caches and is not kept.
     for r in 0..=rounds {
@@ -131,17 +138,20 @@ fn measure(ctx: &Context, file: &str, receptor: &bump::model::Molecule) -> Optio
                     match m {
                         0..=2 => {
                             let (col, atoms) = [&grid, &hashed, &strict_grid][m];
-                            drop(std::hint::black_box(move_to_touch(
-                                col, &atoms[k], s, e, &opts,
-                            )));
+                            move_to_touch_into(col, &atoms[k], s, e, &opts, &mut result);
+                            std::hint::black_box(&result);
                         }
-                        3 => drop(std::hint::black_box(parry::touch(
-                            &rec,
-                            &drugs[k],
-                            s,
-                            e,
-                            opts.tolerance as f32,
-                        ))),
+                        3 => {
+                            std::hint::black_box(parry::touch(
+                                &rec,
+                                &drugs[k],
+                                s,
+                                e,
+                                opts.tolerance as f32,
+                                &mut contacts,
+                            ));
+                            std::hint::black_box(&contacts);
+                        }
                         _ => {
                             std::hint::black_box(parry::cast(&rec, &drugs[k], s, e));
                         }
@@ -199,7 +209,9 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
          a thousand queries), the methods' order turning with the round, so they share \
          the machine's state; *ratio* is the median over rounds of parry3d's time over \
          bump's in the same round (in brackets the 10th and 90th percentiles of the rounds' ratios: \
-         a round that the machine interrupts in one method's timing gives an outlier). *Short* is the \
+         a round that the machine interrupts in one method's timing gives an outlier). Each side \
+         keeps its answer's storage from query to query (bump's result through \
+         `move_to_touch_into`, parry3d's contact list), so neither allocates for it. *Short* is the \
          largest distance bump's full grid under parry3d's rule stops before the exact \
          contact (closed form, f64); *past* parry3d's largest distance beyond it; \
          *overlapping* counts stops where a pair overlaps by more than 10⁻⁶ Å (bump / \

@@ -129,8 +129,10 @@ impl Default for TouchOptions {
     }
 }
 
-/// What a move-to-touch query found.
-#[derive(Debug, Clone)]
+/// What a move-to-touch query found. A caller that asks many queries
+/// (a haptic loop, a benchmark) can keep one and pass it to
+/// [`move_to_touch_into`], which reuses its lists' storage.
+#[derive(Debug, Clone, Default)]
 pub struct TouchResult {
     /// Fraction of the motion allowed, in [0, 1].
     pub t: f64,
@@ -185,42 +187,66 @@ pub fn move_to_touch(
     end: &Pose,
     opts: &TouchOptions,
 ) -> TouchResult {
+    let mut out = TouchResult::default();
+    move_to_touch_into(collider, drug, start, end, opts, &mut out);
+    out
+}
+
+/// [`move_to_touch`], its answer written into `out` (every field
+/// replaced), whose lists keep their storage: a caller that passes the
+/// same result query after query allocates nothing for the usual stop
+/// (which takes its contacts from the search's own working list).
+pub fn move_to_touch_into(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    start: &Pose,
+    end: &Pose,
+    opts: &TouchOptions,
+    out: &mut TouchResult,
+) {
     let tol = if opts.tolerance.is_finite() {
         opts.tolerance.max(MIN_TOLERANCE)
     } else {
         MIN_TOLERANCE
     };
+    let contacts_at =
+        |p: &Pose, v: &mut Vec<Pair>| *v = pairs_within(collider, drug, p, tol as f32);
     if !in_reach(start) || !in_reach(end) {
-        return finish(0.0, *start, check(collider, drug, start), |p| {
-            pairs_within(collider, drug, p, tol as f32)
-        });
+        let colliding = check(collider, drug, start);
+        return finish(out, 0.0, *start, colliding, contacts_at);
     }
     let screw = Screw::between(*start, *end);
     match opts.method {
-        Method::Swept => swept(collider, drug, &screw, tol),
+        Method::Swept => swept(collider, drug, &screw, tol, out),
         Method::Thesis => {
             let (t, pose) = thesis(collider, drug, &screw, tol);
-            finish(t, pose, check(collider, drug, start), |p| {
-                pairs_within(collider, drug, p, tol as f32)
-            })
+            finish(out, t, pose, check(collider, drug, start), contacts_at);
         }
     }
 }
 
+/// Writes a query's answer into `out`: `contacts` fills the (emptied)
+/// contact list for the stop `pose`, and the pairs colliding there are
+/// taken from it.
 pub(super) fn finish(
+    out: &mut TouchResult,
     t: f64,
     pose: Pose,
     start_colliding: Vec<Pair>,
-    contacts_at: impl FnOnce(&Pose) -> Vec<Pair>,
-) -> TouchResult {
-    let contacts = contacts_at(&pose);
-    let colliding = contacts.iter().copied().filter(Pair::collides).collect();
-    TouchResult {
-        t,
-        pose,
-        contacts,
-        colliding,
-        start_colliding,
+    contacts: impl FnOnce(&Pose, &mut Vec<Pair>),
+) {
+    out.t = t;
+    out.pose = pose;
+    out.contacts.clear();
+    contacts(&pose, &mut out.contacts);
+    out.colliding.clear();
+    out.colliding
+        .extend(out.contacts.iter().copied().filter(Pair::collides));
+    // Usually empty: then the kept list is only emptied.
+    if start_colliding.is_empty() {
+        out.start_colliding.clear();
+    } else {
+        out.start_colliding = start_colliding;
     }
 }
 

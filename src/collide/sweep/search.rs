@@ -34,30 +34,26 @@ struct Candidate {
 }
 
 /// The candidates with `d ≤ c + extra` with the drug at `pose` (placed as
-/// the static check places it), sorted, and those of them with `d ≤ c`
-/// (colliding), sorted: the static rule applied to a candidate list. Only
-/// the candidates' drug atoms are placed, each once (a drug atom's
-/// candidates are consecutive).
-///
-/// `found` is a working buffer: the lists are gathered there and copied out
-/// at their exact sizes, so each takes one allocation (none when empty)
-/// rather than a vector's growth by reallocation.
+/// the static check places it), into `found`, sorted, each marked when
+/// `d ≤ c` (colliding); true when one is. The static rule applied to a
+/// candidate list. Only the candidates' drug atoms are placed, each once
+/// (a drug atom's candidates are consecutive).
 fn pairs_among(
     cands: &[Candidate],
     drug: &DrugAtoms,
     pose: &Pose,
     extra: f32,
     found: &mut Vec<(Pair, bool)>,
-) -> (Vec<Pair>, Vec<Pair>) {
+) -> bool {
+    found.clear();
     // Open space, the usual joystick step: nothing to place or sort.
     if cands.is_empty() {
-        return (Vec::new(), Vec::new());
+        return false;
     }
     // An unturned drug (the usual pose) is placed without a rotation
     // matrix: the identity's products are exact, so the positions are the
     // same.
     let m = (pose.rotation != DQuat::IDENTITY).then(|| DMat3::from_quat(pose.rotation));
-    found.clear();
     let mut placed: Option<(u32, Vec3)> = None;
     for k in cands {
         let x = match placed {
@@ -86,15 +82,12 @@ fn pairs_among(
     if found.len() > 1 {
         found.sort_unstable_by_key(|(p, _)| (p.receptor, p.drug));
     }
-    let within = found.iter().map(|(p, _)| *p).collect();
-    // Usually none collides (a stop in contact within tolerance): then no
-    // second list to gather.
-    let colliding = if found.iter().any(|(_, c)| *c) {
-        found.iter().filter(|(_, c)| *c).map(|(p, _)| *p).collect()
-    } else {
-        Vec::new()
-    };
-    (within, colliding)
+    found.iter().any(|(_, c)| *c)
+}
+
+/// The pairs of `found` (from [`pairs_among`]) that collide.
+fn colliding_of(found: &[(Pair, bool)]) -> Vec<Pair> {
+    found.iter().filter(|(_, c)| *c).map(|(p, _)| *p).collect()
 }
 
 /// The swept method. Every static question it answers (the start's
@@ -102,10 +95,16 @@ fn pairs_among(
 /// pairs it gathered anyway: every pair within reach at the start is a
 /// candidate of the first interval, every pair within reach at the end one of
 /// the last.
-pub(super) fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f64) -> TouchResult {
+pub(super) fn swept(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    screw: &Screw,
+    tol: f64,
+    out: &mut TouchResult,
+) {
     // One copy of the search for each way of asking the collider (with the
     // grid's padded rows or without), so each carries one search.
-    let run = |scratch: &mut Scratch| match collider.padded_rows() {
+    let mut run = |scratch: &mut Scratch| match collider.padded_rows() {
         Some(rows) => by_motion(
             scratch,
             collider,
@@ -113,23 +112,30 @@ pub(super) fn swept(collider: &Collider, drug: &DrugAtoms, screw: &Screw, tol: f
             drug,
             screw,
             tol,
+            out,
         ),
-        None => by_motion(scratch, collider, &PlainSearch(collider), drug, screw, tol),
+        None => by_motion(
+            scratch,
+            collider,
+            &PlainSearch(collider),
+            drug,
+            screw,
+            tol,
+            out,
+        ),
     };
     // `try_with` rather than `with`, which panics while the thread is being
-    // torn down (fresh buffers then); and the result is written in place
-    // rather than returned through it, which copied its 136 bytes twice
-    // more (13 instructions a query).
-    let mut out = None;
+    // torn down (fresh buffers then).
+    let mut done = false;
     let _ = SCRATCH.try_with(|cell| {
         // Re-entered from inside a query (never, today): fresh buffers.
         if let Ok(mut scratch) = cell.try_borrow_mut() {
-            out = Some(run(&mut scratch));
+            run(&mut scratch);
+            done = true;
         }
     });
-    match out {
-        Some(result) => result,
-        None => run(&mut Scratch::default()),
+    if !done {
+        run(&mut Scratch::default());
     }
 }
 
@@ -144,11 +150,12 @@ fn by_motion<S: Search>(
     drug: &DrugAtoms,
     screw: &Screw,
     tol: f64,
-) -> TouchResult {
+    out: &mut TouchResult,
+) {
     if screw.is_translation() {
-        swept_with::<true, S>(scratch, collider, search, drug, screw, tol)
+        swept_with::<true, S>(scratch, collider, search, drug, screw, tol, out)
     } else {
-        swept_with::<false, S>(scratch, collider, search, drug, screw, tol)
+        swept_with::<false, S>(scratch, collider, search, drug, screw, tol, out)
     }
 }
 
@@ -179,7 +186,8 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
     drug: &DrugAtoms,
     screw: &Screw,
     tol: f64,
-) -> TouchResult {
+    out: &mut TouchResult,
+) {
     let Scratch {
         ys,
         speeds,
@@ -211,8 +219,8 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
     let tol32 = tol as f32;
     if s_max.is_nan() || s_max <= 0.0 || collider.is_empty() || drug.is_empty() {
         let colliding = check(collider, drug, &start);
-        return finish(1.0, *screw.end(), colliding, |p| {
-            pairs_within(collider, drug, p, tol32)
+        return finish(out, 1.0, *screw.end(), colliding, |p, v| {
+            *v = pairs_within(collider, drug, p, tol32);
         });
     }
     let mover = Mover {
@@ -468,8 +476,8 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
             // only when a pair comes near contact at the start (rarely: a
             // query usually starts where the last one stopped, in contact
             // within tolerance but not colliding).
-            if near_start {
-                start_colliding = pairs_among(cands, drug, &start, 0.0, found).1;
+            if near_start && pairs_among(cands, drug, &start, 0.0, found) {
+                start_colliding = colliding_of(found);
             }
         }
         if t_hit <= tb {
@@ -496,15 +504,18 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
     let mut pose = screw.pose_at(t);
     let mut back = tol / s_max;
     let mut tries = 0;
-    // The contacts at the final pose, when its candidates gave them.
-    let mut contacts: Option<Vec<Pair>>;
+    // Whether the final pose's pairs came from its candidates (then in
+    // `found`, and the contacts are taken from there).
+    let mut among_candidates;
     loop {
-        let colliding = if t >= last_ta {
-            let (within, colliding) = pairs_among(cands, drug, &pose, tol32, found);
-            contacts = Some(within);
-            colliding
+        among_candidates = t >= last_ta;
+        let colliding = if among_candidates {
+            if pairs_among(cands, drug, &pose, tol32, found) {
+                colliding_of(found)
+            } else {
+                Vec::new()
+            }
         } else {
-            contacts = None;
             check(collider, drug, &pose)
         };
         // A stop short of the end must leave every pair that collided at
@@ -529,11 +540,14 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
         back *= 2.0;
         pose = screw.pose_at(t);
     }
-    match contacts {
-        Some(contacts) => finish(t, pose, start_colliding, |_| contacts),
-        None => finish(t, pose, start_colliding, |p| {
-            pairs_within(collider, drug, p, tol32)
-        }),
+    if among_candidates {
+        finish(out, t, pose, start_colliding, |_, v| {
+            v.extend(found.iter().map(|(p, _)| *p));
+        });
+    } else {
+        finish(out, t, pose, start_colliding, |p, v| {
+            *v = pairs_within(collider, drug, p, tol32);
+        });
     }
 }
 
