@@ -344,8 +344,8 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
             // query takes 10 % fewer instructions than without it).
             // Elsewhere it rarely proves a group the map would not: tested
             // whenever part of the drug was outside the box, with a second
-            // test of each group's atoms (until the round of
-            // docs/benchmarks.md that gated it), it took 1.5–4.3 % more
+            // test of each group's atoms (before the round of commit
+            // 37dc96f in docs/benchmarks.md), it took 1.5–4.3 % more
             // instructions on the five receptors' surface approaches.
             let grow = DVec3::splat(s_max * half + 2e-3);
             let grown_box = (cm.cmplt(blo - grow) | cm.cmpgt(bhi + grow))
