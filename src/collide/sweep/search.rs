@@ -343,10 +343,10 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
             // them for less than the map's test would (on the E's paths a
             // query takes 10 % fewer instructions than without it).
             // Elsewhere it rarely proves a group the map would not: tested
-            // whenever part of the drug was outside the box, with a second
-            // test of each group's atoms (before the round of commit
-            // 37dc96f in docs/benchmarks.md), it took 1.5–4.3 % more
-            // instructions on the five receptors' surface approaches.
+            // whenever part of the drug was outside the box, it took
+            // 1.6–2.7 % more instructions on the surface approaches of
+            // 1rx1, 4kya and the assembly (the round of commit 37dc96f in
+            // docs/benchmarks.md).
             let grow = DVec3::splat(s_max * half + 2e-3);
             let grown_box = (cm.cmplt(blo - grow) | cm.cmpgt(bhi + grow))
                 .any()
