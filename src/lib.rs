@@ -2,8 +2,10 @@
 //! Turk's 1989 UNC thesis "Interactive Collision Detection for Molecular
 //! Graphics".
 //!
-//! This library is the docking core. It has no window, GPU, joystick or audio
-//! dependency: the command line, the tests and the benchmarks drive it directly.
+//! The docking core has no window, GPU, joystick or audio dependency: the
+//! command line, the tests and the benchmarks drive it directly, and
+//! `cargo build --no-default-features` builds it without linking any shell
+//! crate, so an import of the shell from the core does not compile.
 //!
 //! - [`model`]: molecules, radii, loading PDB/mmCIF/SDF, the built-in scene.
 //! - [`motion`]: poses and screw interpolation.
@@ -13,11 +15,12 @@
 //! - [`session`]: the docking session's state machine (modes, selection,
 //!   collision settings, undo), stepped one frame at a time.
 //!
-//! The shell, which the core never imports:
-//! - [`render`]: wgpu sphere impostors, offscreen rendering to PNG.
-//! - [`app`]: the docking window (winit, egui HUD, keyboard and mouse).
-//! - [`input`]: joysticks and gamepads (gilrs) mapped to motions; the
-//!   mapping itself is pure.
+//! - [`input`]: the joystick map and the pure mapping from raw axes to
+//!   motions (the gilrs device layer, `input::gamepads`, is part of the shell).
+//!
+//! The shell, behind the default feature `app`, which the core never imports:
+//! - `render`: wgpu sphere impostors, offscreen rendering to PNG.
+//! - `app`: the docking window (winit, egui HUD, keyboard and mouse, the beep).
 //!
 //! ```
 //! use bump::collide::{ColliderKind, ContactRule, TouchOptions};
@@ -42,11 +45,13 @@
 //! assert!(r.t < 1.0 && !r.contacts.is_empty() && r.colliding.is_empty());
 //! ```
 
+#[cfg(feature = "app")]
 pub mod app;
 pub mod collide;
 pub mod input;
 pub mod model;
 pub mod motion;
+#[cfg(feature = "app")]
 pub mod render;
 pub mod rng;
 pub mod scene;

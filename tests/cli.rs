@@ -530,6 +530,7 @@ fn bad_input_gets_clear_errors() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[cfg(feature = "app")]
 #[test]
 fn without_a_display_the_window_fails_cleanly() {
     let out = Command::new(env!("CARGO_BIN_EXE_bump"))
@@ -546,6 +547,7 @@ fn without_a_display_the_window_fails_cleanly() {
     );
 }
 
+#[cfg(feature = "app")]
 #[test]
 fn bench_writes_a_report_with_figures_and_keeps_the_manual_sections() {
     let dir = std::env::temp_dir().join(format!("bump-bench-{}", std::process::id()));

@@ -7,9 +7,12 @@ macro_rules! outln {
     ($($arg:tt)*) => { $crate::cli::write_line(format_args!($($arg)*)) };
 }
 
+#[cfg(feature = "app")]
 mod bench;
 mod check;
+#[cfg(feature = "app")]
 mod devices;
+#[cfg(feature = "app")]
 mod render;
 mod report;
 mod scene_args;
@@ -44,10 +47,13 @@ enum Command {
     /// Atoms per grid cell (the thesis's Table 1) for real files.
     Stats(stats::StatsArgs),
     /// Draw the scene offscreen to a PNG (no window needed).
+    #[cfg(feature = "app")]
     Render(render::RenderArgs),
     /// List joysticks and gamepads and show their raw axes live.
+    #[cfg(feature = "app")]
     Devices(devices::DevicesArgs),
     /// The benchmark report: run time against error, scaling, Table 1, frame costs.
+    #[cfg(feature = "app")]
     Bench(bench::BenchArgs),
 }
 
@@ -70,8 +76,11 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Check(a)) => check::run(&a),
         Some(Command::Touch(a)) => touch::run(&a),
         Some(Command::Stats(a)) => stats::run(&a),
+        #[cfg(feature = "app")]
         Some(Command::Render(a)) => render::run(&a),
+        #[cfg(feature = "app")]
         Some(Command::Devices(a)) => devices::run(&a),
+        #[cfg(feature = "app")]
         Some(Command::Bench(a)) => bench::run(&a),
         None => window::run(&cli.files, &cli.window),
     }

@@ -12,11 +12,10 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
-use bump::app::LoadEvent;
 use bump::collide::{ColliderKind, Method};
 use bump::input::{JoystickMap, RotationMapping};
 use bump::model::{LoadOptions, Molecule, RadiiSet, builtin};
-use bump::session::{LogWriter, Session, SessionLog, Settings, replay};
+use bump::session::{Session, SessionLog, Settings, replay};
 use clap::Args;
 
 /// Options of the docking window.
@@ -107,6 +106,8 @@ impl SceneSpec {
         Ok(spec)
     }
 
+    // Only a recording, which needs the window, writes these.
+    #[cfg_attr(not(feature = "app"), allow(dead_code))]
     fn meta(&self, two_boxes: bool, molecules: &[Molecule]) -> Vec<(String, String)> {
         let mut m = vec![(
             "bump-version".to_string(),
@@ -214,64 +215,37 @@ pub fn run(files: &[PathBuf], a: &WindowArgs) -> anyhow::Result<()> {
             .as_ref()
             .and_then(|l| l.meta_value("two-boxes"))
             .is_some_and(|v| v == "true");
-    if let (Some(log), Some(path)) = (&log, &a.play) {
-        let molecules = spec.load_all()?;
-        if let Some(recorded) = log.meta_value("atoms")
-            && recorded != atom_counts(&molecules)
-        {
-            bail!(
-                "{}: recorded on molecules of {recorded} atoms, but these have {}: not the same scene",
-                path.display(),
-                atom_counts(&molecules)
-            );
+    let played = match (&log, &a.play) {
+        (Some(log), Some(path)) => {
+            let molecules = spec.load_all()?;
+            if let Some(recorded) = log.meta_value("atoms")
+                && recorded != atom_counts(&molecules)
+            {
+                bail!(
+                    "{}: recorded on molecules of {recorded} atoms, but these have {}: not the same scene",
+                    path.display(),
+                    atom_counts(&molecules)
+                );
+            }
+            let mut session = Session::new(molecules, spec.settings())?;
+            if a.headless {
+                return headless(&mut session, log, path, &spec);
+            }
+            Some((session, log, path.as_path()))
         }
-        let mut session = Session::new(molecules, spec.settings())?;
-        if a.headless {
-            return headless(&mut session, log, path, &spec);
-        }
-        let options = bump::app::Options {
-            joystick_map: map,
-            two_boxes,
-            rumble: false,
-            record: None,
-            play: Some(log.clone()),
-        };
-        let ended = bump::app::run(session, Vec::new(), None, options)?;
-        report_window(&ended, &spec, Some((log, path)));
-        return Ok(());
-    }
-    let options = |record| bump::app::Options {
-        joystick_map: map.clone(),
-        two_boxes,
-        rumble: !a.no_rumble,
-        record,
-        play: None,
+        _ => None,
     };
-    if let Some(path) = &a.record {
-        let molecules = spec.load_all()?;
-        let writer = LogWriter::create(path, &spec.meta(two_boxes, &molecules))?;
-        let session = Session::new(molecules, spec.settings())?;
-        let msg = format!("recording to {}", path.display());
-        let ended = bump::app::run(session, vec![msg], None, options(Some(writer)))?;
-        report_window(&ended, &spec, None);
-        return Ok(());
+    #[cfg(feature = "app")]
+    {
+        shell::run(a, &spec, map, two_boxes, played)
     }
-    if spec.files.is_empty() {
-        let molecules = spec.load_all()?;
-        let session = Session::new(molecules, spec.settings())?;
-        let ended = bump::app::run(session, Vec::new(), None, options(None))?;
-        report_window(&ended, &spec, None);
-        return Ok(());
+    #[cfg(not(feature = "app"))]
+    {
+        let _ = (map, two_boxes, played);
+        bail!(
+            "this bump was built without its window (cargo feature `app`): use `--play LOG --headless` or the commands (bump --help)"
+        )
     }
-    let rx = spawn_loader(&spec);
-    let ended = bump::app::run(
-        Session::empty(spec.settings()),
-        Vec::new(),
-        Some(rx),
-        options(None),
-    )?;
-    report_window(&ended, &spec, None);
-    Ok(())
 }
 
 fn headless(
@@ -322,64 +296,6 @@ fn headless(
     Ok(())
 }
 
-fn report_window(ended: &bump::app::Ended, spec: &SceneSpec, played: Option<(&SessionLog, &Path)>) {
-    if let Some(p) = &ended.recorded {
-        eprintln!("bump: recorded the session to {}", p.display());
-    }
-    if let (Some((log, path)), Some(n)) = (played, ended.replayed) {
-        outln!(
-            "replayed {n} of {} frames from {}",
-            log.frames.len(),
-            path.display()
-        );
-        if let Some(s) = &ended.session {
-            match replay::mismatched_finals(s, log) {
-                Some(m) if m.is_empty() => outln!("final poses match the recording bit for bit"),
-                Some(m) => outln!("final poses differ from the recording for molecule(s) {m:?}"),
-                None => {}
-            }
-        }
-    }
-    outln!("{}", ended.timing.report(&spec.label()));
-}
-
-fn spawn_loader(spec: &SceneSpec) -> std::sync::mpsc::Receiver<LoadEvent> {
-    let opts = LoadOptions {
-        radii: spec.radii,
-        ..LoadOptions::default()
-    };
-    let files = spec.files.clone();
-    let ligand = spec.ligand.clone();
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        let single = files.len() == 1;
-        for (k, f) in files.iter().enumerate() {
-            let label = f.display().to_string();
-            if tx.send(LoadEvent::Reading(label.clone())).is_err() {
-                return; // the window is gone
-            }
-            let t0 = std::time::Instant::now();
-            let split = k == 0 && (single || ligand.is_some());
-            let event = match load_for_window(f, split, ligand.as_deref(), &opts) {
-                Ok((molecules, warnings)) => LoadEvent::Loaded {
-                    label,
-                    molecules,
-                    warnings,
-                    seconds: t0.elapsed().as_secs_f64(),
-                },
-                Err(e) => LoadEvent::Failed(e),
-            };
-            if let LoadEvent::Failed(e) = &event {
-                eprintln!("bump: {e}");
-            }
-            if tx.send(event).is_err() {
-                return;
-            }
-        }
-    });
-    rx
-}
-
 /// Reads one file for the window: a complex split into receptor and drug
 /// (`split`), or the whole file as one molecule. When the split fails the
 /// whole file is kept and the reason returned as a warning.
@@ -406,4 +322,133 @@ fn load_for_window(
     }
     let m = model::receptor_only(&loaded.structure).map_err(|e| e.to_string())?;
     Ok((vec![m], warnings))
+}
+
+/// The window itself (feature `app`).
+#[cfg(feature = "app")]
+mod shell {
+    use super::*;
+    use bump::app::LoadEvent;
+    use bump::session::LogWriter;
+
+    /// Opens the window: replaying `played`, recording, on the built-in
+    /// scene, or on files read on another thread while the window is up.
+    pub fn run(
+        a: &WindowArgs,
+        spec: &SceneSpec,
+        map: JoystickMap,
+        two_boxes: bool,
+        played: Option<(Session, &SessionLog, &Path)>,
+    ) -> anyhow::Result<()> {
+        if let Some((session, log, path)) = played {
+            let options = bump::app::Options {
+                joystick_map: map,
+                two_boxes,
+                rumble: false,
+                record: None,
+                play: Some(log.clone()),
+            };
+            let ended = bump::app::run(session, Vec::new(), None, options)?;
+            report_window(&ended, spec, Some((log, path)));
+            return Ok(());
+        }
+        let options = |record| bump::app::Options {
+            joystick_map: map.clone(),
+            two_boxes,
+            rumble: !a.no_rumble,
+            record,
+            play: None,
+        };
+        if let Some(path) = &a.record {
+            let molecules = spec.load_all()?;
+            let writer = LogWriter::create(path, &spec.meta(two_boxes, &molecules))?;
+            let session = Session::new(molecules, spec.settings())?;
+            let msg = format!("recording to {}", path.display());
+            let ended = bump::app::run(session, vec![msg], None, options(Some(writer)))?;
+            report_window(&ended, spec, None);
+            return Ok(());
+        }
+        if spec.files.is_empty() {
+            let molecules = spec.load_all()?;
+            let session = Session::new(molecules, spec.settings())?;
+            let ended = bump::app::run(session, Vec::new(), None, options(None))?;
+            report_window(&ended, spec, None);
+            return Ok(());
+        }
+        let rx = spawn_loader(spec);
+        let ended = bump::app::run(
+            Session::empty(spec.settings()),
+            Vec::new(),
+            Some(rx),
+            options(None),
+        )?;
+        report_window(&ended, spec, None);
+        Ok(())
+    }
+
+    fn report_window(
+        ended: &bump::app::Ended,
+        spec: &SceneSpec,
+        played: Option<(&SessionLog, &Path)>,
+    ) {
+        if let Some(p) = &ended.recorded {
+            eprintln!("bump: recorded the session to {}", p.display());
+        }
+        if let (Some((log, path)), Some(n)) = (played, ended.replayed) {
+            outln!(
+                "replayed {n} of {} frames from {}",
+                log.frames.len(),
+                path.display()
+            );
+            if let Some(s) = &ended.session {
+                match replay::mismatched_finals(s, log) {
+                    Some(m) if m.is_empty() => {
+                        outln!("final poses match the recording bit for bit")
+                    }
+                    Some(m) => {
+                        outln!("final poses differ from the recording for molecule(s) {m:?}")
+                    }
+                    None => {}
+                }
+            }
+        }
+        outln!("{}", ended.timing.report(&spec.label()));
+    }
+
+    fn spawn_loader(spec: &SceneSpec) -> std::sync::mpsc::Receiver<LoadEvent> {
+        let opts = LoadOptions {
+            radii: spec.radii,
+            ..LoadOptions::default()
+        };
+        let files = spec.files.clone();
+        let ligand = spec.ligand.clone();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let single = files.len() == 1;
+            for (k, f) in files.iter().enumerate() {
+                let label = f.display().to_string();
+                if tx.send(LoadEvent::Reading(label.clone())).is_err() {
+                    return; // the window is gone
+                }
+                let t0 = std::time::Instant::now();
+                let split = k == 0 && (single || ligand.is_some());
+                let event = match load_for_window(f, split, ligand.as_deref(), &opts) {
+                    Ok((molecules, warnings)) => LoadEvent::Loaded {
+                        label,
+                        molecules,
+                        warnings,
+                        seconds: t0.elapsed().as_secs_f64(),
+                    },
+                    Err(e) => LoadEvent::Failed(e),
+                };
+                if let LoadEvent::Failed(e) = &event {
+                    eprintln!("bump: {e}");
+                }
+                if tx.send(event).is_err() {
+                    return;
+                }
+            }
+        });
+        rx
+    }
 }

@@ -6,12 +6,13 @@
 //! - [`controllers`]: the connected devices and their latest values, from a
 //!   stream of raw events (hot-plug included); grouping into boxes; one box
 //!   or two.
-//! - [`gamepads`]: the only part that talks to gilrs.
+//! - `gamepads` (feature `app`): the only part that talks to gilrs.
 //!
-//! Keyboard and mouse are translated in [`crate::app::keymap`] and the
+//! Keyboard and mouse are translated in the window's key map (`app::keymap`) and the
 //! window; everything meets in a [`crate::session::FrameInput`].
 
 pub mod controllers;
+#[cfg(feature = "app")]
 pub mod gamepads;
 pub mod map;
 

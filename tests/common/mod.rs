@@ -118,6 +118,7 @@ pub fn all_colliders(receptor: &Molecule, rule: &ContactRule) -> Vec<Collider> {
 
 /// The GPU (lavapipe without one), or `None` (skip) outside CI; under
 /// `CI=true` it must exist.
+#[cfg(feature = "app")]
 pub fn gpu() -> Option<bump::render::Gpu> {
     match bump::render::Gpu::headless() {
         Ok(g) => Some(g),
