@@ -17,6 +17,7 @@ pub mod write;
 use std::path::Path;
 
 use glam::DVec3;
+use serde::Serialize;
 
 pub use element::RadiiSet;
 pub use error::LoadError;
@@ -59,6 +60,39 @@ pub struct Structure {
     /// (dropped by default), as (name, `chain/seq`), in file order: so that
     /// asking for one as the ligand can say why it is not there.
     pub hydrogen_only: Vec<(String, String)>,
+    /// Bonds the file states (an SDF bond block, PDB `CONECT` records, mmCIF
+    /// `struct_conn`), between indices into `atoms`, each pair once with the
+    /// lower index first, sorted. Bonds to atoms that were not kept (dropped
+    /// hydrogens, other models) are left out.
+    pub bonds: Vec<FileBond>,
+}
+
+/// The order of a bond as a file gives it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BondOrder {
+    /// A single bond.
+    Single,
+    /// A double bond.
+    Double,
+    /// A triple bond.
+    Triple,
+    /// An aromatic bond (SDF type 4).
+    Aromatic,
+    /// A bond whose order the file does not say (PDB `CONECT`, mmCIF
+    /// `struct_conn` without `pdbx_value_order`).
+    Unspecified,
+}
+
+/// A bond read from a file, between two atoms of a [`Structure`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub struct FileBond {
+    /// The first atom (the lower index).
+    pub a: usize,
+    /// The second atom.
+    pub b: usize,
+    /// The order, when the file gives one.
+    pub order: BondOrder,
 }
 
 /// A loaded structure with the reader's warnings (messages for the user,

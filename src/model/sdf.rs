@@ -152,6 +152,7 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
             atoms,
             positions,
             hydrogen_only: Vec::new(),
+            bonds: Vec::new(),
         },
         warnings,
     })

@@ -769,6 +769,7 @@ mod tests {
                 .collect(),
             positions: vec![glam::DVec3::ZERO; 58],
             hydrogen_only: Vec::new(),
+            bonds: Vec::new(),
         };
         let err = receptor_only(&waters).unwrap_err();
         assert!(matches!(err, LoadError::OnlyWaters { waters: 58, .. }));

@@ -428,6 +428,7 @@ fn first_model(
         atoms,
         positions,
         hydrogen_only,
+        bonds: Vec::new(),
     })
 }
 
