@@ -33,7 +33,6 @@ import math
 import os
 import platform
 import shutil
-import subprocess
 import sys
 import tempfile
 import zlib
@@ -85,21 +84,6 @@ SCORE_COLUMNS = ["total", "lig_inter", "flex_inter", "other_inter", "flex_intra"
 # ==============================================================================================
 # Small helpers
 # ==============================================================================================
-def sh(cmd, **kw):
-    r = subprocess.run(cmd, capture_output=True, text=True, **kw)
-    if r.returncode != 0:
-        raise RuntimeError("command failed: %s\n%s\n%s" % (" ".join(cmd), r.stdout, r.stderr))
-    return r
-
-
-def obabel_exe():
-    here = os.path.dirname(sys.executable)
-    for cand in (os.path.join(here, "obabel"), shutil.which("obabel")):
-        if cand and os.path.exists(cand):
-            return cand
-    raise RuntimeError("obabel (from openbabel-wheel) not found")
-
-
 def fmt8(x):
     """The most precise fixed-point text of x that fits PDBQT's 8-character coordinate field.
     Vina parses columns 31-38/39-46/47-54 with boost::lexical_cast<double>, so extra decimals
@@ -672,24 +656,53 @@ def read_pose_pdbqt(text):
 # ==============================================================================================
 # Main
 # ==============================================================================================
+OB_RECEPTOR_PREP = ("Open Babel python API: OBConversion.ReadFile(pdb); mol.AddHydrogens(False, False) "
+                    "(what obabel -h does); OBChargeModel.FindType('gasteiger').ComputeCharges(mol); "
+                    "write pdbqt with write option 'r' (rigid). NOTE: the one-line CLI "
+                    "'obabel rec.pdb -xr -h --partialcharge gasteiger' runs the charge op BEFORE adding "
+                    "hydrogens (transform.cpp: OBOp::DoOps precedes AddHydrogens), and without "
+                    "--partialcharge every charge is written as 0.000")
+OB_LIGAND_PREP = ("Open Babel python API: OBConversion.ReadFile(sdf, all hydrogens present); "
+                  "OBChargeModel.FindType('gasteiger').ComputeCharges(mol); write pdbqt (default: "
+                  "torsion tree, non-polar hydrogens merged) -- equivalent to "
+                  "'obabel lig.sdf --partialcharge gasteiger -O lig.pdbqt'")
+
+
+def ob_to_pdbqt(in_path, in_fmt, out_path, add_h, rigid):
+    from openbabel import openbabel as ob
+    ob.obErrorLog.SetOutputLevel(0)
+    conv = ob.OBConversion()
+    conv.SetInAndOutFormats(in_fmt, "pdbqt")
+    mol = ob.OBMol()
+    if not conv.ReadFile(mol, in_path):
+        raise RuntimeError("Open Babel could not read " + in_path)
+    if add_h:
+        mol.AddHydrogens(False, False)
+    ok = bool(ob.OBChargeModel.FindType("gasteiger").ComputeCharges(mol))
+    if rigid:
+        conv.AddOption("r", ob.OBConversion.OUTOPTIONS)
+    if not conv.WriteFile(mol, out_path):
+        raise RuntimeError("Open Babel could not write " + out_path)
+    conv.CloseOutFile()
+    return ok
+
+
 def prepare_complex(cx, pdb_dir, work):
     from rdkit import Chem
-    obabel = obabel_exe()
     rec_src = os.path.join(pdb_dir, cx["receptor"])
     st = load_structure(rec_src)
     rec_pdb = os.path.join(work, cx["id"] + "_rec.pdb")
     n_rec_in = write_receptor_pdb(st, rec_pdb)
     rec_pdbqt = os.path.join(work, cx["id"] + "_rec.pdbqt")
-    rec_cmd = ["obabel", os.path.basename(rec_pdb), "-h", "--partialcharge", "gasteiger", "-xr",
-               "-O", os.path.basename(rec_pdbqt)]
-    sh([obabel] + rec_cmd[1:], cwd=work)
+    rec_ok = ob_to_pdbqt(rec_pdb, "pdb", rec_pdbqt, add_h=True, rigid=True)
 
     info = {"receptor_source": cx["receptor"],
             "receptor_selection": "first model; first alternate conformer (gemmi "
                                   "remove_alternative_conformations); polymer ATOM records only "
                                   "(every HETATM record -- water, ions, cofactors, ligand -- removed)",
             "receptor_atoms_selected": n_rec_in,
-            "receptor_prep_command": " ".join(rec_cmd)}
+            "receptor_prep": OB_RECEPTOR_PREP,
+            "receptor_gasteiger_ok": rec_ok}
     if cx.get("sdf"):
         mol, heavy_idx, orig = ligand_from_sdf(os.path.join(pdb_dir, cx["sdf"]))
         info["ligand_source"] = cx["sdf"]
@@ -718,10 +731,8 @@ def prepare_complex(cx, pdb_dir, work):
     lig_sdf = os.path.join(work, cx["id"] + "_lig.sdf")
     Chem.MolToMolFile(mol, lig_sdf)
     lig_pdbqt = os.path.join(work, cx["id"] + "_lig.pdbqt")
-    lig_cmd = ["obabel", os.path.basename(lig_sdf), "--partialcharge", "gasteiger",
-               "-O", os.path.basename(lig_pdbqt)]
-    sh([obabel] + lig_cmd[1:], cwd=work)
-    info["ligand_prep_command"] = " ".join(lig_cmd)
+    info["ligand_gasteiger_ok"] = ob_to_pdbqt(lig_sdf, "sdf", lig_pdbqt, add_h=False, rigid=False)
+    info["ligand_prep"] = OB_LIGAND_PREP
     conf = mol.GetConformer()
     sdf_xyz = np.array([tuple(conf.GetAtomPosition(i)) for i in range(mol.GetNumAtoms())])
     sdf_heavy = [i for i in range(mol.GetNumAtoms()) if mol.GetAtomWithIdx(i).GetAtomicNum() > 1]
@@ -1026,6 +1037,13 @@ def do_complex(cx, pdb_dir, work):
         mk_cmp = {"type_differences_openbabel_vs_meeko": diffs, "meeko_branches": tors_mk,
                   "meeko_atoms": len(mk_atoms), "openbabel_atoms": len(latoms),
                   "meeko_hydrogens_written": sum(1 for b in mk_atoms if b["ad_text"] in ("H", "HD"))}
+        try:
+            v = vina_session("vina", VINA_WEIGHTS, rec_pdbqt, mk_text, box["center"], box["size"], SCORE_SPACING)
+            sc = list(v._vina.score())
+            mk_cmp["vina_crystal_score_with_meeko_pdbqt"] = dict(zip(SCORE_COLUMNS, sc))
+            mk_cmp["vina_num_tors_with_meeko_pdbqt"] = (sc[1] / sc[0] - 1.0) / VINA_WEIGHTS[-1]
+        except Exception as e:  # informative only
+            mk_cmp["vina_error"] = repr(e)
     elif mk_err:
         mk_cmp = {"error": mk_err}
 
