@@ -25,8 +25,11 @@
 //! rebuilt when the selection changes or one of them moves.
 
 pub mod camera;
+pub mod framing;
 pub mod history;
 pub mod input;
+pub mod keys;
+pub mod labels;
 pub mod log;
 pub mod replay;
 pub mod timing;
@@ -40,6 +43,8 @@ use thiserror::Error;
 pub use camera::Camera;
 pub use history::History;
 pub use input::{Command, FrameInput, Motion6};
+pub use keys::{KeyEvent, KeySteps, Step, StepAxis, StepKey, StepSize};
+pub use labels::Role;
 pub use log::{LogError, LogFrame, LogWriter, SessionLog};
 pub use replay::{Replayed, replay};
 pub use timing::{Summary, Timing};
@@ -185,6 +190,49 @@ fn dt_clamped(dt: f64) -> f64 {
     }
 }
 
+/// Makes a response's contacts those of the pose it leaves the drug at,
+/// touching what stopped it.
+///
+/// `stop` reports the pairs its rejected step ran into, at a pose never
+/// shown: the contacts shown are those where the drug stays. `slide` ends
+/// with a leg along the tangent of what it touched, which curves away from
+/// a round atom: a leg of 0.2 Å ends about 0.006 Å clear, beyond the
+/// tolerance, so the drug pressed into the receptor showed "Contacts: 3",
+/// then 0 every other frame while it could not move. When the push was
+/// blocked and the slide ends touching nothing, the rest of the push (the
+/// part the slide took off) is taken once more, through move-to-touch, so
+/// the drug ends against what it slides along (never beyond the push
+/// asked for, never overlapping).
+fn shown_contacts(
+    env: &Environment,
+    start: &Pose,
+    end: &Pose,
+    touch: &TouchOptions,
+    r: &mut crate::collide::StepResult,
+) {
+    match r.response {
+        Response::Stop if r.t < 1.0 => {
+            r.contacts =
+                crate::collide::pairs_within(&env.collider, &env.drug, start, touch.tolerance as f32);
+        }
+        Response::Slide if r.t < 1.0 && r.contacts.is_empty() => {
+            let rest = 1.0 - r.t;
+            let q = (end.rotation * start.rotation.conjugate()).normalize();
+            let (axis, angle) = q.to_axis_angle();
+            let target = r.pose.moved(
+                (end.translation - start.translation) * rest,
+                axis,
+                angle * rest,
+            );
+            let s = crate::collide::move_to_touch(&env.collider, &env.drug, &r.pose, &target, touch);
+            r.pose = s.pose;
+            r.contacts = s.contacts;
+            r.colliding = s.colliding;
+        }
+        _ => {}
+    }
+}
+
 /// The environment of the selected molecule: all others.
 #[derive(Debug, Clone)]
 struct Environment {
@@ -252,6 +300,12 @@ pub struct Session {
     highlighted: Vec<Vec<bool>>,
     contacts: Vec<Contact>,
     rock: Rock,
+    /// The motion keys held and their clock.
+    keys: KeySteps,
+    /// Per molecule: what it is (read once, when it arrives).
+    roles: Vec<Role>,
+    /// Per molecule: its pose when it was loaded or last saved.
+    saved: Vec<Pose>,
 }
 
 impl Session {
@@ -287,20 +341,7 @@ impl Session {
                 }
             })
             .collect();
-        let n: f64 = bodies.iter().map(|b| b.molecule.len() as f64).sum();
-        let centre = if n > 0.0 {
-            bodies
-                .iter()
-                .map(|b| b.pose.translation * b.molecule.len() as f64)
-                .sum::<DVec3>()
-                / n
-        } else {
-            DVec3::ZERO
-        };
-        let radius = bodies
-            .iter()
-            .map(|b| (b.pose.translation - centre).length() + b.molecule.bounding_radius())
-            .fold(1.0, f64::max);
+        let (centre, radius) = framing::bounds(&bodies).unwrap_or((DVec3::ZERO, 1.0));
         let camera = Camera::framing(centre, radius);
         let highlighted = bodies
             .iter()
@@ -309,6 +350,8 @@ impl Session {
         let selected = bodies.len().saturating_sub(1);
         let own_colliders = vec![None; bodies.len()];
         let moving_atoms = vec![None; bodies.len()];
+        let roles = bodies.iter().map(|b| Role::of(&b.molecule)).collect();
+        let saved = bodies.iter().map(|b| b.pose).collect();
         Self {
             bodies,
             selected,
@@ -323,27 +366,51 @@ impl Session {
             highlighted,
             contacts: Vec::new(),
             rock: Rock::default(),
+            keys: KeySteps::default(),
+            roles,
+            saved,
         }
     }
 
-    /// Points the camera at all molecules (after files arrive, say).
+    /// Points the camera at all molecules where they are now, keeping its
+    /// turn, and makes that the home view ([`Command::ResetView`]).
     pub fn frame_all(&mut self) {
-        // Frame the molecules where they are now, not where they were loaded.
-        let n: f64 = self.bodies.iter().map(|b| b.molecule.len() as f64).sum();
-        if n > 0.0 {
-            let centre = self
-                .bodies
-                .iter()
-                .map(|b| b.pose.translation * b.molecule.len() as f64)
-                .sum::<DVec3>()
-                / n;
-            let radius = self
-                .bodies
-                .iter()
-                .map(|b| (b.pose.translation - centre).length() + b.molecule.bounding_radius())
-                .fold(1.0, f64::max);
-            self.camera = Camera::framing(centre, radius);
-            self.home = self.camera;
+        if let Some(c) = framing::fit_all(&self.bodies, self.camera.rotation) {
+            self.camera = c;
+            self.home = c;
+        }
+    }
+
+    /// What molecule `b` is (receptor or drug).
+    pub fn role(&self, b: usize) -> Option<Role> {
+        self.roles.get(b).copied()
+    }
+
+    /// The drug the view centres on: the selected molecule when it is a
+    /// drug, else the last drug loaded, else the selected molecule; `None`
+    /// with no molecule.
+    pub fn drug(&self) -> Option<usize> {
+        if self.bodies.is_empty() {
+            return None;
+        }
+        if self.role(self.selected) == Some(Role::Drug) {
+            return Some(self.selected);
+        }
+        let last = (0..self.bodies.len()).rev().find(|&k| self.roles[k] == Role::Drug);
+        Some(last.unwrap_or(self.selected))
+    }
+
+    /// The molecules moved since they were loaded or last saved.
+    pub fn unsaved(&self) -> Vec<usize> {
+        (0..self.bodies.len())
+            .filter(|&k| self.saved.get(k) != Some(&self.bodies[k].pose))
+            .collect()
+    }
+
+    /// Notes that molecule `b` was saved where it stands now.
+    pub fn mark_saved(&mut self, b: usize) {
+        if let (Some(s), Some(body)) = (self.saved.get_mut(b), self.bodies.get(b)) {
+            *s = body.pose;
         }
     }
 
@@ -352,6 +419,7 @@ impl Session {
     pub fn add_molecule(&mut self, molecule: Molecule) {
         let pose = Pose::from_translation(molecule.centre);
         self.highlighted.push(vec![false; molecule.len()]);
+        self.roles.push(Role::of(&molecule));
         self.bodies.push(Body {
             molecule,
             pose,
@@ -359,6 +427,7 @@ impl Session {
         });
         self.own_colliders.push(None);
         self.moving_atoms.push(None);
+        self.saved.push(pose);
         self.selected = self.bodies.len() - 1;
         self.env = None;
         self.history.close();
@@ -407,6 +476,11 @@ impl Session {
         c
     }
 
+    /// The motion keys held (the window keeps stepping while one is).
+    pub fn keys(&self) -> &KeySteps {
+        &self.keys
+    }
+
     /// The rocking state.
     pub fn rock(&self) -> &Rock {
         &self.rock
@@ -444,13 +518,20 @@ impl Session {
     }
 
     /// Advances one frame of `dt` seconds.
+    ///
+    /// In order: rocking, the commands, the motion keys' steps (each one
+    /// step through the collision response, see [`keys`]), then the
+    /// continuous motions and one-off nudges.
     pub fn step(&mut self, input: &FrameInput, dt: f64) -> FrameOutcome {
         let mut out = FrameOutcome {
             t: 1.0,
             ..FrameOutcome::default()
         };
         // Rocking pauses while the user moves anything, keeping the view.
-        let user_moves = input.has_motion() || input.commands.iter().any(Command::moves_something);
+        let user_moves = input.has_motion()
+            || !input.keys.is_empty()
+            || self.keys.any_held()
+            || input.commands.iter().any(Command::moves_something);
         if user_moves && self.rock.is_on() {
             self.pause_rocking();
         }
@@ -458,30 +539,16 @@ impl Session {
         for c in &input.commands {
             self.command(*c, &mut out);
         }
-        if self.bodies.is_empty() {
-            // Nothing to move but the view.
-            let dt = dt_clamped(dt);
-            let m = input
-                .velocity
-                .scaled(dt)
-                .plus(&input.nudge)
-                .plus(&input.view_velocity.scaled(dt))
-                .plus(&input.view_nudge);
-            if m.is_finite() && !m.is_zero() {
-                self.camera.move_scene(m.translate, m.rotate);
-                out.changed = true;
-            }
-            if input.zoom.is_finite() && input.zoom != 0.0 {
-                self.camera.zoom(input.zoom);
-                out.changed = true;
-            }
-            return out;
+        for s in self.keys.advance(&input.keys, dt) {
+            self.key_step(&s, &mut out);
         }
         let dt = dt_clamped(dt);
         let motion = input.velocity.scaled(dt).plus(&input.nudge);
-        let (mut view, mut object) = match self.mode {
-            Mode::View => (motion, Motion6::ZERO),
-            Mode::Object => (Motion6::ZERO, motion),
+        let object_mode = self.mode == Mode::Object && !self.bodies.is_empty();
+        let (mut view, mut object) = if object_mode {
+            (Motion6::ZERO, motion)
+        } else {
+            (motion, Motion6::ZERO)
         };
         view = view
             .plus(&input.view_velocity.scaled(dt))
@@ -489,27 +556,54 @@ impl Session {
         object = object
             .plus(&input.object_velocity.scaled(dt))
             .plus(&input.object_nudge);
-        if !view.is_finite() || !input.zoom.is_finite() {
-            out.messages.push("ignored a non-finite view motion".into());
-        } else {
-            if !view.is_zero() {
-                self.camera.move_scene(view.translate, view.rotate);
-                out.changed = true;
-            }
-            if input.zoom != 0.0 {
-                self.camera.zoom(input.zoom);
-                out.changed = true;
-            }
-        }
-        if !object.is_finite() {
+        self.move_view(&view, input.zoom, &mut out);
+        if self.bodies.is_empty() {
+            // Nothing to move but the view.
+        } else if !object.is_finite() {
             out.messages.push("ignored a non-finite motion".into());
         } else if object.is_zero() {
-            self.history.close();
+            // A held key's repeats are one gesture: undo takes them back
+            // together.
+            if !self.keys.any_held() {
+                self.history.close();
+            }
         } else {
             let (translate, axis, angle) = self.to_world(&object);
             self.move_selected(translate, axis, angle, &mut out);
         }
         out
+    }
+
+    /// One motion key's step: the view, or the selected molecule in object
+    /// mode (through the collision response); a press starts a new undo
+    /// entry.
+    fn key_step(&mut self, s: &Step, out: &mut FrameOutcome) {
+        let m = s.motion();
+        if self.mode == Mode::Object && !self.bodies.is_empty() {
+            if s.first {
+                self.history.close();
+            }
+            let (translate, axis, angle) = self.to_world(&m);
+            self.move_selected(translate, axis, angle, out);
+        } else {
+            self.move_view(&m, 0.0, out);
+        }
+    }
+
+    /// Moves the camera by `view` (screen axes) and zooms by `zoom` steps.
+    fn move_view(&mut self, view: &Motion6, zoom: f64, out: &mut FrameOutcome) {
+        if !view.is_finite() || !zoom.is_finite() {
+            out.messages.push("ignored a non-finite view motion".into());
+            return;
+        }
+        if !view.is_zero() {
+            self.camera.move_scene(view.translate, view.rotate);
+            out.changed = true;
+        }
+        if zoom != 0.0 {
+            self.camera.zoom(zoom);
+            out.changed = true;
+        }
     }
 
     fn command(&mut self, c: Command, out: &mut FrameOutcome) {
@@ -588,6 +682,20 @@ impl Session {
                 self.place(b, to, out);
             }
             Command::ResetView => self.camera = self.home,
+            Command::ViewDrug => self.view_drug(),
+            Command::CentreOnDrug => {
+                if let Some(c) = self
+                    .drug()
+                    .and_then(|d| framing::centre_on(&self.bodies, d, self.camera.rotation))
+                {
+                    self.camera = c;
+                }
+            }
+            Command::FitAll => {
+                if let Some(c) = framing::fit_all(&self.bodies, self.camera.rotation) {
+                    self.camera = c;
+                }
+            }
             Command::MoveBy {
                 translate,
                 axis,
@@ -626,6 +734,21 @@ impl Session {
                 let deg = self.rock.target_amplitude().to_degrees();
                 out.messages.push(format!("rocking ±{deg:.1}°"));
             }
+        }
+    }
+
+    /// [`Command::ViewDrug`]: a new home view that shows the drug; the
+    /// camera goes there only while it is at home.
+    fn view_drug(&mut self) {
+        let view = match self.drug() {
+            Some(d) if self.bodies.len() > 1 => framing::drug_view(&self.bodies, d),
+            _ => framing::fit_all(&self.bodies, self.camera.rotation),
+        };
+        if let Some(v) = view {
+            if self.camera == self.home {
+                self.camera = v;
+            }
+            self.home = v;
         }
     }
 
@@ -794,7 +917,8 @@ impl Session {
         let inv = env.frame.inverse();
         let (start, end) = (inv.compose(&from), inv.compose(&to));
         let t0 = Instant::now();
-        let r = respond(&env.collider, &env.drug, &start, &end, response, &touch);
+        let mut r = respond(&env.collider, &env.drug, &start, &end, response, &touch);
+        shown_contacts(env, &start, &end, &touch, &mut r);
         out.collision_timed(t0);
         let frame = env.frame;
         let contacts = env.contacts(b, &r.contacts);
