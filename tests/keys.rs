@@ -142,7 +142,10 @@ fn a_hold_steps_once_then_repeats_at_the_documented_rate() {
                 }],
                 frame,
             );
-            let steps = 1.0 + ((held - REPEAT_DELAY) * f64::from(REPEAT_RATE)).floor().max(0.0);
+            let steps = 1.0
+                + ((held - REPEAT_DELAY) * f64::from(REPEAT_RATE))
+                    .floor()
+                    .max(0.0);
             let moved = (drug_centre(&s) - start).x;
             assert!(
                 (moved - steps * StepSize::Normal.angstroms()).abs() < 1e-9,
@@ -160,7 +163,14 @@ fn ten_taps_out_and_ten_back_return_to_the_start() {
         let mut holds = taps(RIGHT, StepSize::Coarse, 10, 0.1, 0.2, 0.0);
         holds.extend(taps(LEFT, StepSize::Coarse, 10, 0.1, 0.2, 2.5));
         holds.extend(taps(TURN_RIGHT, StepSize::Fine, 3, 0.05, 0.1, 5.0));
-        holds.extend(taps(TURN_RIGHT.reversed(), StepSize::Fine, 3, 0.05, 0.1, 6.0));
+        holds.extend(taps(
+            TURN_RIGHT.reversed(),
+            StepSize::Fine,
+            3,
+            0.05,
+            0.1,
+            6.0,
+        ));
         drive(&mut s, &holds, frame);
         let end = s.bodies()[1].pose;
         assert!(
@@ -187,7 +197,10 @@ fn a_tap_is_one_undo_entry_and_a_hold_is_one_too() {
     assert_eq!(s.history().undo_len(), 3);
     s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
     let after = drug_centre(&s) - start;
-    assert!((after - DVec3::new(0.4, 0.0, 0.0)).length() < 1e-9, "{after}");
+    assert!(
+        (after - DVec3::new(0.4, 0.0, 0.0)).length() < 1e-9,
+        "{after}"
+    );
     s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
     assert!((drug_centre(&s) - start - DVec3::new(0.2, 0.0, 0.0)).length() < 1e-9);
 }

@@ -221,7 +221,10 @@ mod tests {
                 rotation: q,
                 ..Camera::framing(DVec3::ZERO, 1.0)
             };
-            assert!((c.to_world(DVec3::Z) - z.normalize()).length() < 1e-12, "{z}");
+            assert!(
+                (c.to_world(DVec3::Z) - z.normalize()).length() < 1e-12,
+                "{z}"
+            );
         }
     }
 }

@@ -74,7 +74,11 @@ pub fn file_label(m: &Molecule) -> &str {
 /// A molecule in words: `drug: TOP X 201 (trimethoprim.sdf)`, or
 /// `receptor: 6xg5.pdb (1,302 atoms)`.
 pub fn molecule(m: &Molecule) -> String {
-    let role = Role::of(m);
+    describe(m, Role::of(m))
+}
+
+/// A molecule in words, in the role the scene gives it.
+pub fn describe(m: &Molecule, role: Role) -> String {
     match (role, m.atoms.first()) {
         (Role::Drug, Some(a)) => format!("drug: {} ({})", residue(a), file_label(m)),
         _ => format!(
@@ -129,7 +133,10 @@ mod tests {
     fn a_drug_and_a_receptor_in_words() {
         let drug = Molecule::new(
             "6xg5.pdb TOP X/201",
-            vec![atom_of("N1", "TOP", "X", 201), atom_of("C2", "TOP", "X", 201)],
+            vec![
+                atom_of("N1", "TOP", "X", 201),
+                atom_of("C2", "TOP", "X", 201),
+            ],
             &[DVec3::ZERO, DVec3::X],
         );
         assert_eq!(Role::of(&drug), Role::Drug);

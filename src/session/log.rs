@@ -327,12 +327,7 @@ fn parse_final(body: &str, expected: usize) -> Result<Pose, String> {
 /// The token a motion key's event is written as: `down:tx+:coarse:0.012`.
 pub fn key_token(e: &KeyEvent) -> String {
     let what = if e.pressed { "down" } else { "up" };
-    format!(
-        "{what}:{}:{}:{:?}",
-        e.key.token(),
-        e.size.name(),
-        e.at
-    )
+    format!("{what}:{}:{}:{:?}", e.key.token(), e.size.name(), e.at)
 }
 
 /// Reads a motion key's event token.
