@@ -355,7 +355,12 @@ impl ApplicationHandler for App {
             Some(g) => {
                 let r = g.egui_state.on_window_event(&g.window, &event);
                 let consumed = r.consumed;
-                if r.repaint {
+                // egui asks to repaint for every RedrawRequested, the frame
+                // this event is about to draw: asking again for it would
+                // redraw for ever (the window never idled: 40–80 % of a
+                // core under Xvfb with nothing moving).
+                let redrawing = matches!(event, WindowEvent::RedrawRequested);
+                if r.repaint && !redrawing {
                     self.request_redraw();
                 }
                 consumed
