@@ -524,6 +524,7 @@ fn moves_since_the_last_save_are_unsaved_and_ask_before_quitting() {
     assert_eq!(s.unsaved(), [1]);
     s.mark_saved(1);
     assert!(s.unsaved().is_empty());
+    s.step(&FrameInput::default(), 0.0); // the gesture ends
     s.step(&push(DVec3::new(0.0, 1.0, 0.0)), 0.0);
     s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
     assert!(s.unsaved().is_empty(), "back where it was saved");
