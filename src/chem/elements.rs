@@ -104,7 +104,9 @@ pub fn valences(element: &str) -> &'static [u8] {
         "H" | "D" | "F" | "Cl" | "Br" | "I" | "At" => &[1],
         "B" => &[3],
         "C" | "Si" => &[4],
-        "N" | "As" => &[3, 5],
+        // Pentavalent N is written charge-separated (nitro, N-oxide).
+        "N" => &[3],
+        "As" => &[3, 5],
         "O" => &[2],
         "P" => &[3, 5],
         "S" | "Se" | "Te" => &[2, 4, 6],
@@ -142,8 +144,8 @@ mod tests {
     #[test]
     fn metals_and_valences() {
         assert!(is_metal("Zn") && is_metal("Sm") && !is_metal("C") && !is_metal("Se"));
-        assert_eq!(valences("N"), &[3, 5]);
-        assert_eq!(charged_valences("N", 1), vec![4, 6]);
+        assert_eq!(valences("N"), &[3]);
+        assert_eq!(charged_valences("N", 1), vec![4]);
         assert_eq!(charged_valences("O", -1), vec![1]);
         assert_eq!(charged_valences("C", -1), vec![3]);
         assert!(covalent_radius("C").is_some() && covalent_radius("Xx").is_none());

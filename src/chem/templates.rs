@@ -384,14 +384,16 @@ pub fn template(residue: &str) -> Option<&'static Template> {
 }
 
 /// An atom name as the templates spell it: `*` read as `'` (old nucleic
-/// acid names) and the old phosphate and thymine methyl names mapped to the
-/// current ones.
+/// acid names), and the old phosphate, thymine methyl and CHARMM C-terminal
+/// names (`OT1`, `OT2`) mapped to the current ones.
 pub fn canonical_name(name: &str) -> std::borrow::Cow<'_, str> {
     let n = name.trim();
     match n {
         "O1P" => "OP1".into(),
         "O2P" => "OP2".into(),
         "O3P" => "OP3".into(),
+        "OT1" => "O".into(),
+        "OT2" => "OXT".into(),
         "C5M" => "C7".into(),
         _ if n.contains('*') => n.replace('*', "'").into(),
         _ => n.into(),
