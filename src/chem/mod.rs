@@ -237,3 +237,355 @@ pub fn perceive(mol: &Molecule) -> Chemistry {
         warnings: warn.into_vec(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::model::{AtomInfo, BondOrder, LoadOptions, sdf::parse_sdf};
+
+    /// A hetero ligand from elements and coordinates, with no bonds.
+    fn ligand(atoms: &[(&str, [f64; 3])]) -> Molecule {
+        let infos = atoms
+            .iter()
+            .enumerate()
+            .map(|(i, (e, _))| AtomInfo {
+                serial: i as i64 + 1,
+                name: format!("{e}{}", i + 1),
+                residue: "LIG".into(),
+                seq: 1,
+                insertion: String::new(),
+                chain: "A".into(),
+                element: (*e).into(),
+                radius: 1.7,
+                polar: matches!(*e, "N" | "O"),
+                hetero: true,
+            })
+            .collect();
+        let pos: Vec<DVec3> = atoms.iter().map(|(_, p)| DVec3::from_array(*p)).collect();
+        Molecule::new("test.pdb LIG", infos, &pos)
+    }
+
+    fn ring(elements: &[&str], radius: f64) -> Vec<(&'static str, [f64; 3])> {
+        let n = elements.len();
+        elements
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                let e: &'static str = match *e {
+                    "N" => "N",
+                    _ => "C",
+                };
+                (e, [radius * a.cos(), radius * a.sin(), 0.0])
+            })
+            .collect()
+    }
+
+    fn doubles(c: &Chemistry) -> usize {
+        c.bonds
+            .iter()
+            .filter(|b| b.order == BondOrder::Double)
+            .count()
+    }
+
+    #[test]
+    fn benzene_from_geometry() {
+        let m = ligand(&ring(&["C"; 6], 1.39));
+        let c = m.chemistry();
+        assert_eq!(c.bonds.len(), 6);
+        assert_eq!(doubles(c), 3);
+        assert!(c.aromatic.iter().all(|&a| a));
+        assert!(c.bond_aromatic.iter().all(|&a| a));
+        assert!(c.hydrogen_count.iter().all(|&h| h == 1));
+        assert!(c.xs.iter().all(|&t| t == Some(XsType::C_H)));
+        assert!(c.torsions.is_empty() && c.vina_torsion_count() == 0.0);
+        // Symmetric: every carbon (with its hydrogen merged) is neutral.
+        assert!(c.charges.iter().all(|q| q.abs() < 1e-4), "{:?}", c.charges);
+        assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+    }
+
+    #[test]
+    fn pyridine_nitrogen_is_an_acceptor() {
+        let m = ligand(&ring(&["N", "C", "C", "C", "C", "C"], 1.39));
+        let c = m.chemistry();
+        assert_eq!(doubles(c), 3);
+        assert_eq!(c.xs[0], Some(XsType::N_A));
+        assert_eq!(c.hydrogen_count[0], 0);
+        assert_eq!(c.xs[1], Some(XsType::C_P));
+        assert_eq!(c.xs[3], Some(XsType::C_H));
+        assert!(c.aromatic[0]);
+        // Gasteiger: the nitrogen takes charge from its carbons.
+        assert!(c.charges[0] < -0.1 && c.charges[1] > 0.0);
+    }
+
+    #[test]
+    fn acetic_acid_and_its_hydroxyl() {
+        let m = ligand(&[
+            ("C", [0.0, 0.0, 0.0]),
+            ("C", [1.52, 0.0, 0.0]),
+            ("O", [2.125, 1.048, 0.0]),
+            ("O", [2.2, -1.178, 0.0]),
+        ]);
+        let c = m.chemistry();
+        let order = |a: u32, b: u32| {
+            c.bonds
+                .iter()
+                .find(|x| x.a == a && x.b == b)
+                .map(|x| x.order)
+        };
+        assert_eq!(order(1, 2), Some(BondOrder::Double));
+        assert_eq!(order(1, 3), Some(BondOrder::Single));
+        assert_eq!(
+            c.xs,
+            vec![
+                Some(XsType::C_H),
+                Some(XsType::C_P),
+                Some(XsType::O_A),
+                Some(XsType::O_DA)
+            ]
+        );
+        assert_eq!(c.hydrogen_count, vec![3, 0, 0, 1]);
+        // The C–OH bond turns a hydrogen only: it counts ½.
+        assert_eq!(c.torsions.len(), 1);
+        assert_eq!(c.vina_torsion_count(), 0.5);
+        let total: f32 = c.united_charges().iter().sum();
+        assert!(total.abs() < 1e-4, "{total}");
+    }
+
+    #[test]
+    fn amide_bond_does_not_rotate_and_butane_does() {
+        let nma = ligand(&[
+            ("C", [0.0, 0.0, 0.0]),
+            ("C", [1.51, 0.0, 0.0]),
+            ("O", [2.125, 1.065, 0.0]),
+            ("N", [2.175, -1.152, 0.0]),
+            ("C", [3.625, -1.177, 0.0]),
+        ]);
+        let c = nma.chemistry();
+        assert_eq!(c.xs[3], Some(XsType::N_D));
+        assert_eq!(c.xs[2], Some(XsType::O_A));
+        assert_eq!(c.hydrogen_count[3], 1);
+        assert!(c.torsions.is_empty(), "{:?}", c.torsions.bonds);
+
+        let butane = ligand(
+            &(0..4)
+                .map(|i| ("C", [i as f64 * 1.26, (i % 2) as f64 * 0.89, 0.0]))
+                .collect::<Vec<_>>(),
+        );
+        let c = butane.chemistry();
+        assert_eq!(c.torsions.len(), 1);
+        assert_eq!(c.vina_torsion_count(), 1.0);
+        let rb = c.torsions.bonds[0];
+        assert_eq!(
+            (
+                rb.parent_atom.min(rb.child_atom),
+                rb.parent_atom.max(rb.child_atom)
+            ),
+            (1, 2)
+        );
+        let (small, _, _) = c.torsions.smaller_side(0);
+        assert_eq!(small.len(), 2);
+        // Vina scores the 1-4 pair of butane? No: within three bonds.
+        assert!(c.torsions.vina_pairs(&c.adjacency, &c.xs).is_empty());
+        assert_eq!(
+            torsions::pairs_beyond_three_bonds(&c.adjacency),
+            Vec::<(u32, u32)>::new()
+        );
+    }
+
+    #[test]
+    fn hexane_pairs_across_rotors() {
+        let hexane = ligand(
+            &(0..6)
+                .map(|i| ("C", [i as f64 * 1.26, (i % 2) as f64 * 0.89, 0.0]))
+                .collect::<Vec<_>>(),
+        );
+        let c = hexane.chemistry();
+        // C1–C2 and C4–C5... rotatable bonds: 1-2, 2-3, 3-4 (0-based).
+        assert_eq!(c.torsions.len(), 3);
+        let pairs = c.torsions.vina_pairs(&c.adjacency, &c.xs);
+        assert_eq!(pairs, vec![(0, 4), (0, 5), (1, 5)]);
+        assert_eq!(
+            torsions::pairs_beyond_three_bonds(&c.adjacency),
+            vec![(0, 4), (0, 5), (1, 5)]
+        );
+    }
+
+    const V2000_HEAD: &str = "lig\n  test\n\n";
+
+    fn sdf(atoms: &[(&str, [f64; 3])], bonds: &[(i64, i64, i64)], extra: &str) -> String {
+        let mut t = String::from(V2000_HEAD);
+        t += &format!(
+            "{:>3}{:>3}  0  0  0  0  0  0  0  0999 V2000\n",
+            atoms.len(),
+            bonds.len()
+        );
+        for (e, p) in atoms {
+            t += &format!(
+                "{:>10.4}{:>10.4}{:>10.4} {:<3} 0  0  0  0  0  0  0  0  0  0  0  0\n",
+                p[0], p[1], p[2], e
+            );
+        }
+        for (a, b, o) in bonds {
+            t += &format!("{a:>3}{b:>3}{o:>3}  0\n");
+        }
+        t += extra;
+        t += "M  END\n$$$$\n";
+        t
+    }
+
+    fn load(text: &str) -> (Molecule, Vec<String>) {
+        let l = parse_sdf(text, "bad.sdf", &LoadOptions::default()).expect("loads");
+        (
+            crate::model::receptor_only(&l.structure).expect("molecule"),
+            l.warnings,
+        )
+    }
+
+    #[test]
+    fn bad_bond_blocks_load_with_warnings() {
+        let atoms = [("C", [0.0, 0.0, 0.0]), ("O", [1.43, 0.0, 0.0])];
+        for (bond, what) in [
+            ((0, 2, 1), "atom 0"),
+            ((1, 3, 1), "atom 3"),
+            ((2, 2, 1), "itself"),
+        ] {
+            let (m, w) = load(&sdf(&atoms, &[bond], ""));
+            assert!(
+                w.iter()
+                    .any(|w| w.contains("bad.sdf:7") && w.contains(what)),
+                "{w:?}"
+            );
+            // The bond is left out, so the two atoms are perceived.
+            let c = m.chemistry();
+            assert_eq!(c.bonds.len(), 1);
+        }
+    }
+
+    #[test]
+    fn odd_valence_and_unknown_elements_are_named() {
+        // A carbon with five single bonds.
+        let mut atoms = vec![("C", [0.0, 0.0, 0.0])];
+        for d in [
+            [1.5, 0.0, 0.0],
+            [-1.5, 0.0, 0.0],
+            [0.0, 1.5, 0.0],
+            [0.0, -1.5, 0.0],
+            [0.0, 0.0, 1.5],
+        ] {
+            atoms.push(("C", d));
+        }
+        let bonds: Vec<(i64, i64, i64)> = (2..=6).map(|k| (1, k, 1)).collect();
+        let (m, _) = load(&sdf(&atoms, &bonds, ""));
+        let c = m.chemistry();
+        assert!(
+            c.warnings.iter().any(|w| w.contains("bad.sdf")
+                && w.contains("atom 1 (C1")
+                && w.contains("odd valence")),
+            "{:?}",
+            c.warnings
+        );
+        // An element no table knows.
+        let (m, _) = load(&sdf(
+            &[("C", [0.0, 0.0, 0.0]), ("Xx", [1.5, 0.0, 0.0])],
+            &[(1, 2, 1)],
+            "",
+        ));
+        let c = m.chemistry();
+        assert_eq!(c.xs[1], None);
+        assert!(
+            c.warnings
+                .iter()
+                .any(|w| w.contains("atom 2 (Xx2") && w.contains("unknown element")),
+            "{:?}",
+            c.warnings
+        );
+    }
+
+    #[test]
+    fn a_missing_bond_block_is_perceived() {
+        let atoms = ring(&["C"; 6], 1.39);
+        let (m, _) = load(&sdf(&atoms, &[], ""));
+        let c = m.chemistry();
+        assert_eq!(c.bonds.len(), 6);
+        assert_eq!(doubles(c), 3);
+        assert!(
+            c.warnings.iter().any(|w| w.contains("no bonds")),
+            "{:?}",
+            c.warnings
+        );
+    }
+
+    #[test]
+    fn charges_and_aromatic_bonds_from_sdf() {
+        // Pyridinium written with aromatic bonds and M  CHG.
+        let atoms = ring(&["N", "C", "C", "C", "C", "C"], 1.39);
+        let bonds: Vec<(i64, i64, i64)> = (1..=6).map(|k| (k, k % 6 + 1, 4)).collect();
+        let (m, _) = load(&sdf(&atoms, &bonds, "M  CHG  1   1   1\n"));
+        assert_eq!(m.formal_charges[0], 1);
+        let c = m.chemistry();
+        assert_eq!(doubles(c), 3);
+        assert!(c.aromatic.iter().all(|&a| a));
+        // Pyridinium: the N+ carries a hydrogen, a donor.
+        assert_eq!(c.hydrogen_count[0], 1);
+        assert_eq!(c.xs[0], Some(XsType::N_D));
+    }
+
+    #[test]
+    fn peptide_templates_and_chain_breaks() {
+        // Two glycines 1.33 Å apart, a third 4 Å further: linked, then broken.
+        let gly = |seq: i64, x: f64, serial: i64| -> Vec<(AtomInfo, DVec3)> {
+            [
+                ("N", [0.0, 0.0, 0.0]),
+                ("CA", [1.46, 0.0, 0.0]),
+                ("C", [2.0, 1.4, 0.0]),
+                ("O", [1.4, 2.4, 0.0]),
+            ]
+            .iter()
+            .enumerate()
+            .map(|(k, (name, p))| {
+                (
+                    AtomInfo {
+                        serial: serial + k as i64,
+                        name: (*name).into(),
+                        residue: "GLY".into(),
+                        seq,
+                        insertion: String::new(),
+                        chain: "A".into(),
+                        element: name[..1].into(),
+                        radius: 1.7,
+                        polar: false,
+                        hetero: false,
+                    },
+                    DVec3::new(p[0] + x, p[1], p[2]),
+                )
+            })
+            .collect()
+        };
+        let mut all = gly(1, 0.0, 1);
+        // Residue 2's N sits 1.33 Å from residue 1's C.
+        let c1 = all[2].1;
+        all.extend(
+            gly(2, c1.x + 1.0 - 0.0, 5)
+                .into_iter()
+                .map(|(a, p)| (a, p + DVec3::new(0.0, c1.y - 0.88, 0.0))),
+        );
+        all.extend(gly(3, 30.0, 9));
+        let (atoms, pos): (Vec<_>, Vec<_>) = all.into_iter().unzip();
+        let m = Molecule::new("gly", atoms, &pos);
+        let c = m.chemistry();
+        let link = c.bonds.iter().any(|b| (b.a, b.b) == (2, 4));
+        assert!(link, "{:?}", c.bonds);
+        assert!(
+            !c.bonds.iter().any(|b| b.a < 8 && b.b >= 8),
+            "no bond across the break"
+        );
+        // Linked N has one hydrogen (N_D); the chain starts (two H) are N_DA.
+        assert_eq!(c.xs[4], Some(XsType::N_D));
+        assert_eq!(c.xs[0], Some(XsType::N_DA));
+        assert_eq!(c.xs[8], Some(XsType::N_DA));
+        assert_eq!(c.xs[3], Some(XsType::O_A));
+    }
+}

@@ -968,6 +968,33 @@ $$$$
         let s = &l.structure;
         assert_eq!(s.atoms.len(), 3);
         assert_eq!(s.atoms[1].name, "N2");
+        assert_eq!(s.file_chem.formal_charges, vec![0, 1, 0]);
+        assert_eq!(
+            s.bonds,
+            vec![
+                FileBond {
+                    a: 0,
+                    b: 1,
+                    order: BondOrder::Single
+                },
+                FileBond {
+                    a: 0,
+                    b: 2,
+                    order: BondOrder::Single
+                }
+            ]
+        );
+        assert!(s.file_chem.bonds_complete);
+        // Dropped, the hydrogen is kept apart with its carbon.
+        let d = parse_sdf(text, "t.sdf", &opts(Hydrogens::Drop, None)).unwrap();
+        let fc = &d.structure.file_chem;
+        assert_eq!(d.structure.atoms.len(), 2);
+        assert_eq!(fc.hydrogens.len(), 1);
+        assert_eq!(
+            (fc.hydrogens[0].parent, fc.hydrogens[0].before),
+            (Some(0), 2)
+        );
+        assert_eq!(d.structure.bonds.len(), 1);
         assert!(s.atoms[1].polar);
         assert_eq!(s.positions[1], DVec3::new(4.0, 5.0, 6.0));
         assert_eq!(s.atoms[0].residue, "v3");

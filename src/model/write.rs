@@ -317,6 +317,8 @@ pub fn write_sdf(mol: &Molecule, pose: &Pose, path: &Path) -> Result<(), WriteEr
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
     use super::*;
     use crate::model::{LigandSpec, LoadOptions, load, split_complex, test_data_dir};
     use glam::{DQuat, DVec3};
@@ -357,6 +359,135 @@ mod tests {
         assert_eq!(counts[0..3].trim(), "39", "{counts}");
         assert_eq!(counts[3..6].trim(), "40", "{counts}");
         let _ = std::fs::remove_dir_all(&tmp);
+    }
+
+    /// Reads `text` as SDF keeping hydrogens.
+    fn sdf_back(text: &str) -> crate::model::Structure {
+        let keep = LoadOptions {
+            hydrogens: crate::model::Hydrogens::Keep,
+            ..LoadOptions::default()
+        };
+        crate::model::sdf::parse_sdf(text, "back.sdf", &keep)
+            .expect("read back")
+            .structure
+    }
+
+    #[test]
+    fn shared_sdfs_round_trip_at_the_identity_pose() {
+        let Some(dir) = test_data_dir() else { return };
+        let keep = LoadOptions {
+            hydrogens: crate::model::Hydrogens::Keep,
+            ..LoadOptions::default()
+        };
+        for file in [
+            "trimethoprim_top_6xg5pose.sdf",
+            "methotrexate_mtx_ideal.sdf",
+            "benzamidine_3ptb.sdf",
+            "1s3v_ligand_tqd.sdf",
+        ] {
+            let original = load(&dir.join(file), &keep).expect(file).structure;
+            let loaded = load(&dir.join(file), &LoadOptions::default()).expect(file);
+            let mol = crate::model::receptor_only(&loaded.structure).expect(file);
+            let pose = Pose::new(DQuat::IDENTITY, mol.centre);
+            let back = sdf_back(&sdf_text(&mol, &pose));
+            assert_eq!(back.atoms.len(), original.atoms.len(), "{file}");
+            for (i, (a, b)) in original.atoms.iter().zip(&back.atoms).enumerate() {
+                assert_eq!(
+                    (&a.name, &a.element),
+                    (&b.name, &b.element),
+                    "{file} atom {i}"
+                );
+                let d = (original.positions[i] - back.positions[i])
+                    .abs()
+                    .max_element();
+                assert!(d <= 1e-4, "{file} atom {i}: {d}");
+            }
+            assert_eq!(back.bonds, original.bonds, "{file}: bonds and orders");
+            assert_eq!(
+                back.file_chem.formal_charges, original.file_chem.formal_charges,
+                "{file}: charges"
+            );
+        }
+    }
+
+    #[test]
+    fn the_6xg5_ligand_round_trips_through_pdb() {
+        let Some(dir) = test_data_dir() else { return };
+        let keep = LoadOptions {
+            hydrogens: crate::model::Hydrogens::Keep,
+            ..LoadOptions::default()
+        };
+        let spec = LigandSpec::parse("TOP").expect("spec");
+        let path = dir.join("6xg5_tmp_prepared.pdb");
+        let full = load(&path, &keep).expect("load").structure;
+        let (_, with_h) = split_complex(&full, &spec).expect("split");
+        let (_, drug) = split_complex(
+            &load(&path, &LoadOptions::default())
+                .expect("load")
+                .structure,
+            &spec,
+        )
+        .expect("split");
+        assert_eq!(drug.hydrogens.len(), 18);
+        let pose = Pose::new(DQuat::IDENTITY, drug.centre);
+        let tmp = std::env::temp_dir().join(format!("bump-top-{}.pdb", std::process::id()));
+        write_pdb(&drug, &pose, &tmp).expect("write");
+        let text = std::fs::read_to_string(&tmp).expect("text");
+        let back = load(&tmp, &keep).expect("read back").structure;
+        let _ = std::fs::remove_file(&tmp);
+        assert_eq!(back.atoms.len(), with_h.len());
+        for (i, (a, b)) in with_h.atoms.iter().zip(&back.atoms).enumerate() {
+            assert_eq!(
+                (&a.name, &a.element, a.serial),
+                (&b.name, &b.element, b.serial),
+                "atom {i}"
+            );
+            let d = (with_h.file_position(i) - back.positions[i])
+                .abs()
+                .max_element();
+            assert!(d <= 1e-3, "atom {i}: {d}");
+        }
+        // CONECT records: every heavy bond and every hydrogen's bond, both ways.
+        let conect = text.lines().filter(|l| l.starts_with("CONECT")).count();
+        assert!(conect >= 39, "{conect} CONECT records");
+        // The same bonds and orders are perceived from the written file.
+        let again = crate::model::receptor_only(&load_text_as_pdb(&text)).expect("molecule");
+        assert_eq!(again.chemistry().bonds, drug.chemistry().bonds);
+    }
+
+    /// Loads PDB text through a temporary file.
+    fn load_text_as_pdb(text: &str) -> crate::model::Structure {
+        let tmp = std::env::temp_dir().join(format!("bump-again-{}.pdb", std::process::id()));
+        std::fs::write(&tmp, text).expect("write");
+        let s = load(&tmp, &LoadOptions::default()).expect("load").structure;
+        let _ = std::fs::remove_file(&tmp);
+        s
+    }
+
+    #[test]
+    fn large_molecules_are_written_as_v3000() {
+        let Some(dir) = test_data_dir() else { return };
+        let s = load(&dir.join("1ubq.pdb"), &LoadOptions::default())
+            .expect("1ubq")
+            .structure;
+        let rec = crate::model::receptor_only(&s).expect("receptor");
+        // Ubiquitin's 602 atoms fit V2000; DHFR's 2577 do not.
+        let pose = Pose::new(DQuat::IDENTITY, rec.centre);
+        let text = sdf_text(&rec, &pose);
+        assert!(text.lines().nth(3).is_some_and(|l| l.ends_with("V2000")));
+        let s = load(&dir.join("4dfr.pdb"), &LoadOptions::default())
+            .expect("4dfr")
+            .structure;
+        let rec = crate::model::receptor_only(&s).expect("receptor");
+        let pose = Pose::new(DQuat::IDENTITY, rec.centre);
+        let text = sdf_text(&rec, &pose);
+        assert!(text.lines().nth(3).is_some_and(|l| l.ends_with("V3000")));
+        let back = sdf_back(&text);
+        assert_eq!(back.atoms.len(), rec.len());
+        assert_eq!(back.bonds.len(), rec.chemistry().bonds.len());
+        for (b, c) in back.bonds.iter().zip(&rec.chemistry().bonds) {
+            assert_eq!((b.a, b.b, b.order), (c.a as usize, c.b as usize, c.order));
+        }
     }
 
     #[test]
