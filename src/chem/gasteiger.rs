@@ -198,20 +198,20 @@ pub(crate) fn charges(
     // Parameters; hydrogens are appended after the heavy atoms, each
     // bonded to its parent, hydro.count[i] of them per atom.
     let mut params: Vec<Option<[f64; 3]>> = Vec::with_capacity(n * 2);
-    for i in 0..n {
+    for (i, &h) in hyb.iter().enumerate().take(n) {
         let free_oxygens = adj
             .of(i)
             .iter()
             .filter(|&&(j, _)| elem(j as usize) == "O" && adj.degree(j as usize) == 1)
             .count();
         let nn = elem(i) == "N"
-            && hyb[i] == Hybridisation::Sp2
+            && h == Hybridisation::Sp2
             && npl_or_nam(mol, bonds, adj, aromatic, &in_ring_atom, hydro, i);
         params.push(
             table(
                 mol,
                 i,
-                hyb[i],
+                h,
                 total_degree(i),
                 hydro.charges[i],
                 nn,

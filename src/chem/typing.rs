@@ -244,9 +244,10 @@ pub(crate) fn hydrogens(
             if let Some(&max) = allowed.last()
                 && total > u32::from(max)
             {
-                if matches!(e, "N" | "P") && total == 4 && charges[i] == 0 {
-                    charges[i] = 1;
-                } else if e == "O" && total == 3 && charges[i] == 0 {
+                // An onium: NH4+-like N or P, H3O+-like O.
+                let onium = charges[i] == 0
+                    && ((matches!(e, "N" | "P") && total == 4) || (e == "O" && total == 3));
+                if onium {
                     charges[i] = 1;
                 } else {
                     warn.atom(
