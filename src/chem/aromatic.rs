@@ -111,8 +111,23 @@ pub(crate) fn perceive(
         }
     }
     // Fused pairs: two rings sharing a bond, each with a closed π system.
+    // Rings are paired through the atoms they share, so the cost stays
+    // linear in the number of rings.
+    let mut rings_of: std::collections::HashMap<u32, Vec<usize>> = std::collections::HashMap::new();
+    for (r, ring) in rings.iter().enumerate() {
+        for &a in ring {
+            rings_of.entry(a).or_default().push(r);
+        }
+    }
     for r in 0..rings.len() {
-        for s in r + 1..rings.len() {
+        let mut partners: Vec<usize> = rings[r]
+            .iter()
+            .flat_map(|a| rings_of.get(a).into_iter().flatten().copied())
+            .filter(|&s| s > r)
+            .collect();
+        partners.sort_unstable();
+        partners.dedup();
+        for s in partners {
             if aromatic_ring[r] && aromatic_ring[s] {
                 continue;
             }

@@ -226,7 +226,12 @@ pub fn perceive(mol: &Molecule) -> Chemistry {
         bond_aromatic,
         aromatic,
         formal_charges: hydro.charges.clone(),
-        hydrogen_count: hydro.count.clone(),
+        hydrogen_count: hydro
+            .count
+            .iter()
+            .zip(&hydro.atom_h)
+            .map(|(a, b)| a.saturating_add(*b))
+            .collect(),
         implicit_hydrogens: explicit_h.iter().map(Option::is_none).collect(),
         hybridisation,
         xs,
@@ -502,6 +507,33 @@ mod tests {
             "{:?}",
             c.warnings
         );
+    }
+
+    #[test]
+    fn hydrogens_kept_as_atoms_count_as_hydrogens() {
+        // Methanol with its hydrogens, loaded keeping them as atoms.
+        let atoms = [
+            ("C", [0.0, 0.0, 0.0]),
+            ("O", [1.43, 0.0, 0.0]),
+            ("H", [1.75, 0.9, 0.0]),
+            ("H", [-0.36, 1.03, 0.0]),
+            ("H", [-0.36, -0.51, 0.89]),
+            ("H", [-0.36, -0.51, -0.89]),
+        ];
+        let bonds = [(1, 2, 1), (2, 3, 1), (1, 4, 1), (1, 5, 1), (1, 6, 1)];
+        let keep = LoadOptions {
+            hydrogens: crate::model::Hydrogens::Keep,
+            ..LoadOptions::default()
+        };
+        let l = parse_sdf(&sdf(&atoms, &bonds, ""), "m.sdf", &keep).expect("loads");
+        let m = crate::model::receptor_only(&l.structure).expect("molecule");
+        let c = m.chemistry();
+        assert_eq!(&c.hydrogen_count[..2], &[3, 1]);
+        assert_eq!(&c.xs[..2], &[Some(XsType::C_P), Some(XsType::O_DA)]);
+        assert!(c.xs[2..].iter().all(Option::is_none));
+        assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+        let total: f32 = c.charges.iter().sum();
+        assert!(total.abs() < 1e-4 && c.charges[2] > 0.1, "{:?}", c.charges);
     }
 
     #[test]

@@ -175,8 +175,12 @@ pub enum Hybridisation {
 /// Hydrogens and formal charges per heavy atom.
 #[derive(Debug, Clone)]
 pub(crate) struct Hydro {
-    /// Hydrogens bonded to each atom.
+    /// Hydrogens bonded to each atom that are not among the molecule's
+    /// atoms (implicit, or the file's kept apart).
     pub count: Vec<u8>,
+    /// Hydrogens bonded to each atom that are among the molecule's atoms
+    /// (loaded with `--hydrogens keep`); its bonds already count them.
+    pub atom_h: Vec<u8>,
     /// Formal charges (file, template or implied).
     pub charges: Vec<i8>,
 }
@@ -277,7 +281,20 @@ pub(crate) fn hydrogens(
             ),
         }
     }
-    Hydro { count, charges }
+    // Hydrogens loaded as atoms count as their neighbours' hydrogens.
+    let mut atom_h = vec![0u8; n];
+    for i in 0..n {
+        if matches!(mol.atoms[i].element.as_str(), "H" | "D") {
+            for &(j, _) in adj.of(i) {
+                atom_h[j as usize] = atom_h[j as usize].saturating_add(1);
+            }
+        }
+    }
+    Hydro {
+        count,
+        atom_h,
+        charges,
+    }
 }
 
 /// Open Babel's hybridisation of every atom.
@@ -393,8 +410,8 @@ pub(crate) fn xs_types(
     (0..mol.len())
         .map(|i| {
             let e = mol.atoms[i].element.as_str();
-            let h = hydro.count[i];
-            let degree = adj.degree(i) + usize::from(h);
+            let h = hydro.count[i] + hydro.atom_h[i];
+            let degree = adj.degree(i) + usize::from(hydro.count[i]);
             let t = match e {
                 "C" => {
                     let hetero = adj.of(i).iter().any(|&(j, _)| {
@@ -420,6 +437,9 @@ pub(crate) fn xs_types(
                     }
                 }
                 "S" | "Se" => XsType::S_P,
+                // Hydrogens loaded as atoms (`--hydrogens keep`) have no
+                // type; they count as their neighbour's hydrogens.
+                "H" | "D" => return None,
                 "P" => XsType::P_P,
                 "F" => XsType::F_H,
                 "Cl" => XsType::Cl_H,
