@@ -60,7 +60,8 @@ pub struct Chemistry {
     /// Per atom: formal charge (the file's, a template's, or implied by a
     /// valence beyond the neutral one, as in a quaternary nitrogen).
     pub formal_charges: Vec<i8>,
-    /// Per atom: hydrogens bonded to it (the file's, or implicit).
+    /// Per atom: hydrogens bonded to it (the file's, implicit, or hydrogens
+    /// loaded as atoms); 0 for a hydrogen atom.
     pub hydrogen_count: Vec<u8>,
     /// Per atom: true when its hydrogens are implicit (the file had none
     /// for its residue).

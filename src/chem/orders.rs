@@ -34,7 +34,7 @@ use super::connect::Connection;
 use super::elements::charged_valences;
 use super::graph::Adjacency;
 use super::rings::{ring_deviation, smallest_rings};
-use super::{Bond, Warnings};
+use super::Warnings;
 use crate::model::{BondOrder, Molecule};
 
 /// Average bond angle (degrees) above which an atom is linear.
@@ -142,20 +142,11 @@ pub(crate) fn assign_orders(
         let deg = row.len() as u32;
         let e = elem(i);
         need[i] = match explicit_h[i] {
-            Some(h) => from_valence(
-                e,
-                conn.charges[i],
-                deg,
-                u32::from(h),
-                stated,
-                row,
-                bonds,
-                mol,
-            ),
+            Some(h) => from_valence(e, conn.charges[i], deg, u32::from(h), stated, row, mol),
             None if has_aromatic => aromatic_need(e, deg, stated),
             None => {
                 let flat = if ring_trigonal[i] { 6 } else { in_flat_ring[i] };
-                from_geometry(i, e, row, pos, bonds, adj, mol, flat, in_six[i], stated)
+                from_geometry(i, e, row, pos, adj, mol, flat, in_six[i], stated)
             }
         };
     }
@@ -340,7 +331,6 @@ fn from_valence(
     h: u32,
     stated: u32,
     row: &[(u32, u32)],
-    bonds: &[Bond],
     mol: &Molecule,
 ) -> Need {
     let used = deg + h + stated;
@@ -349,7 +339,6 @@ fn from_valence(
             .iter()
             .filter(|&&(j, _)| matches!(mol.atoms[j as usize].element.as_str(), "O" | "S"))
             .count() as u32;
-        let _ = bonds;
         let want = match (e, deg + h) {
             ("S", 3) => 1,
             ("S", 4) => 2,
@@ -402,14 +391,12 @@ fn from_geometry(
     e: &str,
     row: &[(u32, u32)],
     pos: &[Vec3],
-    bonds: &[Bond],
     adj: &Adjacency,
     mol: &Molecule,
     flat_ring: u8,
     in_six_ring: bool,
     stated: u32,
 ) -> Need {
-    let _ = bonds;
     // `flat_ring == 6` comes only from a trigonal six-ring.
     let ring_trigonal_flag = flat_ring == 6;
     let deg = row.len();

@@ -30,11 +30,13 @@ pub use select::{LigandSpec, receptor_only, split_complex};
 /// Whether hydrogens are kept when loading.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Hydrogens {
-    /// Drop H and D atoms (the default: crystal structures rarely have them,
-    /// and hydrogen-bond contacts would read as collisions).
+    /// Drop H and D atoms from the atoms (the default: crystal structures
+    /// rarely have them, and hydrogen-bond contacts would read as
+    /// collisions); they are kept apart for the chemistry and the writer.
     #[default]
     Drop,
-    /// Keep them.
+    /// Keep them as atoms (collided and drawn; the chemistry counts them as
+    /// their neighbours' hydrogens).
     Keep,
 }
 
