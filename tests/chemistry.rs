@@ -4,13 +4,10 @@
 //! AutoDock Vina 1.2's reference values (`tests/reference/vina/values.json`,
 //! made by `make_reference.py` beside it from Open Babel's preparation).
 //!
-//! The disagreements left are Open Babel's protonation choices for
-//! crystal structures without hydrogens, which follow from its bond-order
-//! perception rather than from the residue: which carboxylate oxygen of Asp
-//! and Glu (and of a C terminus) carries the hydrogen, whether a histidine
-//! has a ring N–H at all, and, for residues whose file has hydrogens, the
-//! ones Open Babel adds. The test requires every receptor disagreement to
-//! be one of these and checks how many there are.
+//! The disagreements left are Open Babel's protonation of some crystal
+//! histidines (its bond-order perception leaves about half of them with no
+//! ring N–H; bump gives ND1–H). The test requires every receptor
+//! disagreement to be one of these and checks how many there are.
 
 mod common;
 
@@ -247,18 +244,9 @@ const COMPLEXES: &[(&str, &str, &str, Option<&str>)] = &[
 ];
 
 /// Receptor atoms whose type may differ from the reference: Open Babel's
-/// protonation choices (see the module docs).
+/// histidine protonation (see the module docs).
 fn known_protonation_choice(residue: &str, name: &str) -> bool {
-    matches!(
-        (residue, name),
-        ("ASP", "OD1" | "OD2")
-            | ("GLU", "OE1" | "OE2")
-            | ("HIS", "ND1" | "NE2")
-            | ("TRP", "NE1")
-            | ("LYS", "NZ")
-            | ("TYR", "OH")
-            | (_, "O" | "OXT" | "N")
-    )
+    matches!((residue, name), ("HIS", "ND1" | "NE2"))
 }
 
 struct Tally {
@@ -329,20 +317,14 @@ fn types_charges_and_torsions_agree_with_vina() {
         }
         let ntors_ref = entry["ligand"]["vina_num_tors"].as_f64().expect("ntors");
         let ntors = chem.vina_torsion_count();
+        // Every ligand, with stated bonds or perceived from a PDB residue,
+        // is typed exactly. A perceived diaminopyrimidine's Kekulé structure
+        // may count one amidine C–N rotor fewer than the reference's.
+        assert_eq!(lig.differ, 0, "{id}: {lig_diffs:?}");
         if sdf.is_some() {
-            // Ligands with stated bonds: exact.
-            assert_eq!(lig.differ, 0, "{id}: {lig_diffs:?}");
             assert_eq!(lig.charges_close, lig.compared, "{id}: charges");
             assert_eq!(ntors, ntors_ref, "{id}: N_tors");
         } else {
-            // Perceived from a PDB residue: which oxygen of a carboxylic
-            // or phosphoric acid holds the hydrogen is a choice (the
-            // reference's comes from a SMILES template); only oxygens
-            // differ, and the torsion count is within one terminal rotor.
-            assert!(
-                lig_diffs.iter().all(|d| d.starts_with('O')) && lig.differ <= 4,
-                "{id}: {lig_diffs:?}"
-            );
             assert!(
                 (ntors - ntors_ref).abs() <= 0.5,
                 "{id}: N_tors {ntors} vs {ntors_ref}"
@@ -359,6 +341,7 @@ fn types_charges_and_torsions_agree_with_vina() {
             compared: 0,
         };
         let mut unknown = Vec::new();
+        let mut rec_diffs = Vec::new();
         for row in entry["receptor"]["atoms_near"].as_array().expect("atoms") {
             let row = row.as_array().expect("row");
             // Atoms at another alternate location than bump keeps are not found.
@@ -375,6 +358,10 @@ fn types_charges_and_torsions_agree_with_vina() {
             } else {
                 rec.differ += 1;
                 let a = &receptor.atoms[i];
+                rec_diffs.push(format!(
+                    "{} {}{} {}: {want:?} vs {:?}",
+                    a.residue, a.chain, a.seq, a.name, rchem.xs[i]
+                ));
                 if !known_protonation_choice(&a.residue, &a.name) {
                     unknown.push(format!(
                         "{} {}{} {}: {want:?} vs {:?}",
@@ -396,7 +383,7 @@ fn types_charges_and_torsions_agree_with_vina() {
             "{id}: too few matched"
         );
         assert!(
-            rec.agree * 100 >= rec.compared * 95,
+            rec.agree * 100 >= rec.compared * 99,
             "{id}: {} of {} receptor types agree",
             rec.agree,
             rec.compared
@@ -408,7 +395,7 @@ fn types_charges_and_torsions_agree_with_vina() {
             rec.agree
         );
         report.push(format!(
-            "{id}: ligand types {}/{} charges {}/{} N_tors {ntors} (Vina {ntors_ref}); receptor types {}/{} charges {}/{}",
+            "{id}: ligand types {}/{} charges {}/{} N_tors {ntors} (Vina {ntors_ref}); receptor types {}/{} charges {}/{}; ligand differences {lig_diffs:?}, receptor differences {rec_diffs:?}",
             lig.agree, lig.compared, lig.charges_close, lig.compared, rec.agree, rec.compared, rec.charges_close, rec.agree
         ));
     }

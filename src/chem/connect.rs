@@ -171,10 +171,17 @@ pub(crate) fn connect(
                 }
             }
         }
+        let first = bonds.len();
         for (x, y, order) in t.bonds {
             let find = |name: &str| names.iter().position(|nm| nm == name);
             if let (Some(p), Some(q)) = (find(x), find(y)) {
                 bonds.push(Bond::new(s + idx(p), s + idx(q), order_of(*order)));
+            }
+        }
+        for &(c, o1, o2) in carboxyls(t.kind, atoms[s as usize].residue.trim()) {
+            let find = |name: &str| names.iter().position(|nm| nm == name).map(|k| s + idx(k));
+            if let (Some(c), Some(o1), Some(o2)) = (find(c), find(o1), find(o2)) {
+                place_acid_hydrogen(mol, explicit_h, &mut bonds[first..], c, o1, o2);
             }
         }
     }
@@ -242,6 +249,65 @@ pub(crate) fn connect(
         residue_of,
         templates,
     )
+}
+
+/// The carboxyl groups (carbon, oxygen, oxygen) of a template residue
+/// whose protonation the residue's name leaves open: Asp's and Glu's side
+/// chains and every amino acid's C terminus.
+fn carboxyls(
+    kind: PolymerKind,
+    residue: &str,
+) -> &'static [(&'static str, &'static str, &'static str)] {
+    match (kind, residue) {
+        (PolymerKind::Peptide, "ASP") => &[("CG", "OD1", "OD2"), ("C", "O", "OXT")],
+        (PolymerKind::Peptide, "GLU") => &[("CD", "OE1", "OE2"), ("C", "O", "OXT")],
+        (PolymerKind::Peptide, _) => &[("C", "O", "OXT")],
+        (PolymerKind::Nucleic, _) => &[],
+    }
+}
+
+/// Chooses which oxygen of a neutral carboxylic acid carries the hydrogen,
+/// by setting the orders of its two C–O bonds among `bonds`.
+///
+/// An oxygen with a hydrogen in the file takes it. Otherwise the choice is
+/// Open Babel's when it adds hydrogens to a PDB file (the preparation of
+/// AutoDock Vina's usual receptors): its distance bonding adds each atom's
+/// bonds in order of the partner's z coordinate and its functional-group
+/// typer makes the first oxygen found the carbonyl, so the oxygen with the
+/// larger z carries the hydrogen. In a crystal structure the two C–O bonds
+/// are the same within error, so geometry cannot choose better.
+fn place_acid_hydrogen(
+    mol: &Molecule,
+    explicit_h: &[Option<u8>],
+    bonds: &mut [Bond],
+    c: u32,
+    o1: u32,
+    o2: u32,
+) {
+    let has_h = |o: u32| explicit_h[o as usize].is_some_and(|h| h > 0);
+    let z = |o: u32| mol.file_position(o as usize).z;
+    let hydroxyl = match (has_h(o1), has_h(o2)) {
+        (true, false) => o1,
+        (false, true) => o2,
+        (true, true) => return,
+        (false, false) if z(o1) > z(o2) => o1,
+        (false, false) if z(o2) > z(o1) => o2,
+        (false, false) => return,
+    };
+    for b in bonds.iter_mut() {
+        let other = match (b.a == c, b.b == c) {
+            (true, _) => b.b,
+            (_, true) => b.a,
+            _ => continue,
+        };
+        if other == o1 || other == o2 {
+            b.order = if other == hydroxyl {
+                BondOrder::Single
+            } else {
+                BondOrder::Double
+            };
+        }
+    }
 }
 
 /// Sorts and deduplicates `bonds` (a pair stated twice keeps its stated

@@ -296,6 +296,56 @@ mod tests {
             .count()
     }
 
+    /// An aspartate with no hydrogens, its two side-chain oxygens at the
+    /// given heights.
+    fn aspartate(od1_z: f64, od2_z: f64) -> Molecule {
+        let atoms = [
+            ("N", "N", [-1.9, 0.6, 0.0]),
+            ("CA", "C", [-0.5, 0.4, 0.0]),
+            ("C", "C", [0.0, 1.2, 1.2]),
+            ("O", "O", [-0.4, 2.3, 1.4]),
+            ("CB", "C", [0.0, -1.0, 0.0]),
+            ("CG", "C", [1.5, -1.2, 0.0]),
+            ("OD1", "O", [2.1, -1.9, od1_z]),
+            ("OD2", "O", [2.2, -0.6, od2_z]),
+        ];
+        let infos = atoms
+            .iter()
+            .enumerate()
+            .map(|(i, (name, e, _))| AtomInfo {
+                serial: i as i64 + 1,
+                name: (*name).into(),
+                residue: "ASP".into(),
+                seq: 27,
+                insertion: String::new(),
+                chain: "A".into(),
+                element: (*e).into(),
+                radius: 1.7,
+                polar: matches!(*e, "N" | "O"),
+                hetero: false,
+            })
+            .collect();
+        let pos: Vec<DVec3> = atoms.iter().map(|(.., p)| DVec3::from_array(*p)).collect();
+        Molecule::new("test.pdb", infos, &pos)
+    }
+
+    #[test]
+    fn a_crystal_aspartate_protonates_its_higher_oxygen_as_open_babel_does() {
+        for (z1, z2, hydroxyl) in [(-0.3, 0.3, 7), (0.3, -0.3, 6)] {
+            let m = aspartate(z1, z2);
+            let c = m.chemistry();
+            for o in [6, 7] {
+                let want = if o == hydroxyl {
+                    XsType::O_DA
+                } else {
+                    XsType::O_A
+                };
+                assert_eq!(c.xs[o], Some(want), "OD{} with z {z1}, {z2}", o - 5);
+                assert_eq!(c.hydrogen_count[o], u8::from(o == hydroxyl));
+            }
+        }
+    }
+
     #[test]
     fn benzene_from_geometry() {
         let m = ligand(&ring(&["C"; 6], 1.39));

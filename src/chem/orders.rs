@@ -154,6 +154,13 @@ pub(crate) fn assign_orders(
     // Bonds that may take a higher order: unspecified or aromatic.
     let mut order: Vec<BondOrder> = bonds.iter().map(|b| b.order).collect();
     let free = |o: BondOrder| matches!(o, BondOrder::Unspecified | BondOrder::Aromatic);
+    let terminal_o = |j: usize| adj.degree(j) == 1 && elem(j) == "O";
+    let terminal_oxygens = |i: usize| {
+        adj.of(i)
+            .iter()
+            .filter(|&&(j, _)| terminal_o(j as usize))
+            .count()
+    };
 
     // Hypervalent S and P: double bonds to their shortest terminal O/S first.
     for i in 0..n {
@@ -171,6 +178,15 @@ pub(crate) fn assign_orders(
             })
             .map(|&(j, k)| (pos[i].distance(pos[j as usize]), j, k))
             .collect();
+        // An acid's terminal oxygens take the double bonds in file order,
+        // as the carboxylic acids' do below.
+        if terminal_oxygens(i) > 1 {
+            for t in &mut terminal {
+                if terminal_o(t.1 as usize) {
+                    t.0 = f32::MIN;
+                }
+            }
+        }
         terminal.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
         for (_, j, k) in terminal {
             if need[i].count == 0 {
@@ -199,6 +215,13 @@ pub(crate) fn assign_orders(
 
     // Double bonds: a matching over the bonds between atoms that want one.
     let mut mate: Vec<Option<(u32, u32)>> = vec![None; n]; // (partner, bond)
+    let terminal_o = |j: usize| adj.degree(j) == 1 && elem(j) == "O";
+    let terminal_oxygens = |i: usize| {
+        adj.of(i)
+            .iter()
+            .filter(|&&(j, _)| terminal_o(j as usize))
+            .count()
+    };
     let candidates = |i: usize, order: &[BondOrder], need: &[Need]| -> Vec<(u32, u32)> {
         let mut c: Vec<(f32, u32, u32)> = adj
             .of(i)
@@ -209,10 +232,19 @@ pub(crate) fn assign_orders(
                 let single = super::elements::covalent_radius(elem(i)).unwrap_or(0.76)
                     + super::elements::covalent_radius(elem(j as usize)).unwrap_or(0.76);
                 let mut lj = pos[i].distance(pos[j as usize]) / single as f32;
-                // A carbonyl beats an imine where the geometry cannot
-                // tell them apart (an amide, a carboxylic acid).
-                if adj.degree(j as usize) == 1 && elem(j as usize) == "O" {
+                if terminal_o(j as usize) {
+                    // A carbonyl beats an imine where the geometry cannot
+                    // tell them apart (an amide, a carboxylic acid).
                     lj -= 0.04;
+                    // Between an acid's terminal oxygens (carboxylic,
+                    // phosphoric, sulfonic) the first in the file is the
+                    // double bond and the others carry the hydrogens: the
+                    // lengths are equal within a crystal structure's error,
+                    // and it is the choice a bond-order template (RDKit's,
+                    // which prepares the reference ligands) makes.
+                    if terminal_oxygens(i) > 1 {
+                        lj = f32::MIN;
+                    }
                 }
                 (lj, j, k)
             })

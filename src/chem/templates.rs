@@ -7,7 +7,9 @@
 //! a pH model (its residue table, `resdata.txt`, then its bond-order
 //! perception) — the inputs AutoDock Vina's reference receptors are made
 //! from: neutral amines (Lys NZ and the N terminus get two hydrogens),
-//! carboxylic acids (Asp OD1 and Glu OE2 carry a hydrogen; CG=OD2, CD=OE1),
+//! carboxylic acids (one oxygen of Asp, Glu and the C terminus carries a
+//! hydrogen: which one is chosen as Open Babel does, see
+//! [`super::connect`]; the templates' orders are the fallback),
 //! Arg with NE=CZ (NH1 and NH2 each get two hydrogens), His with ND1–H and
 //! NE2=CE1, and tryptophan's NE1 without a hydrogen (Open Babel's bond-order
 //! perception leaves it so in 22 of the 23 reference tryptophans, which
