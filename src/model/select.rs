@@ -22,7 +22,7 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt;
 use std::str::FromStr;
 
-use super::{LoadError, Molecule, Structure, is_water};
+use super::{AtomInfo, LoadError, Molecule, Structure, is_water};
 
 /// Hetero residue names `auto` never picks: ions and small inorganic groups,
 /// crystallisation and buffer additives, and modified amino acids that belong
@@ -470,6 +470,103 @@ pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
         atoms,
         &positions,
     ))
+}
+
+/// [`split_complex`] taking the structure: its atoms move into the two
+/// molecules rather than being copied (the receptor's in place), so that a
+/// large structure is not held twice while it is split.
+///
+/// # Errors
+/// As [`split_complex`].
+pub fn split_complex_owned(
+    s: Structure,
+    spec: &LigandSpec,
+) -> Result<(Molecule, Molecule), LoadError> {
+    let (chosen, label) = {
+        let groups = residue_groups(&s);
+        let g = &groups[pick(&s, &groups, spec)?];
+        (g.atoms.clone(), g.label())
+    };
+    let mut in_drug = vec![false; s.atoms.len()];
+    for &i in &chosen {
+        in_drug[i] = true;
+    }
+    let drug_atoms: Vec<AtomInfo> = chosen.iter().map(|&i| s.atoms[i].clone()).collect();
+    let drug_pos: Vec<_> = chosen.iter().map(|&i| s.positions[i]).collect();
+    let Structure {
+        name,
+        mut atoms,
+        mut positions,
+        ..
+    } = s;
+    let keep: Vec<bool> = atoms
+        .iter()
+        .zip(&in_drug)
+        .map(|(a, d)| !d && !is_water(&a.residue))
+        .collect();
+    drop(in_drug);
+    let mut k = 0;
+    atoms.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    let mut k = 0;
+    positions.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    if atoms.is_empty() {
+        return Err(LoadError::Ligand {
+            path: name,
+            reason: format!(
+                "nothing is left for the receptor after taking {label} as the drug and removing waters"
+            ),
+        });
+    }
+    let receptor = Molecule::new(format!("{name} receptor"), atoms, &positions);
+    drop(positions);
+    let drug = Molecule::new(format!("{name} {label}"), drug_atoms, &drug_pos);
+    Ok((receptor, drug))
+}
+
+/// [`receptor_only`] taking the structure: its atoms move into the
+/// molecule in place rather than being copied.
+///
+/// # Errors
+/// As [`receptor_only`].
+pub fn receptor_only_owned(s: Structure) -> Result<Molecule, LoadError> {
+    let Structure {
+        name,
+        mut atoms,
+        mut positions,
+        ..
+    } = s;
+    let total = atoms.len();
+    let keep: Vec<bool> = atoms.iter().map(|a| !is_water(&a.residue)).collect();
+    let mut k = 0;
+    atoms.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    let mut k = 0;
+    positions.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    if atoms.is_empty() {
+        return Err(if total == 0 {
+            LoadError::NoAtoms {
+                path: name,
+                dropped_hydrogens: 0,
+            }
+        } else {
+            LoadError::OnlyWaters {
+                path: name,
+                waters: total,
+            }
+        });
+    }
+    Ok(Molecule::new(format!("{name} receptor"), atoms, &positions))
 }
 
 #[cfg(test)]
