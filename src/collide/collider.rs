@@ -312,13 +312,12 @@ impl Collider {
             hi = Vec3::ZERO;
         }
         let cell = (2.0 * max_radius - rule.min_allowance()).max(1.0);
-        let raw: Vec<(Vec4, u32)> = receptor
-            .local
-            .iter()
-            .zip(&receptor.atoms)
-            .enumerate()
-            .map(|(i, (p, a))| (p.extend(a.radius), ((i as u32) << 1) | u32::from(a.polar)))
-            .collect();
+        // Each atom as stored, read straight from the molecule (a copy of
+        // them all would be the largest allocation of a 272k-atom build).
+        let stored = |i: u32| {
+            let (p, a) = (receptor.local[i as usize], &receptor.atoms[i as usize]);
+            (p.extend(a.radius), (i << 1) | u32::from(a.polar))
+        };
 
         // Integer cell of each stored atom: the hashed index only.
         let mut cells = Vec::new();
@@ -401,9 +400,9 @@ impl Collider {
                 )
             }
         };
-        let atoms: Vec<Vec4> = order.iter().map(|&i| raw[i as usize].0).collect();
+        let atoms: Vec<Vec4> = order.iter().map(|&i| stored(i).0).collect();
         let soa = [0, 1, 2].map(|k| padded(atoms.iter().map(|a| a[k])));
-        let meta: Vec<u32> = order.iter().map(|&i| raw[i as usize].1).collect();
+        let meta: Vec<u32> = order.iter().map(|&i| stored(i).1).collect();
         let mut slot = vec![0u32; n];
         for (k, &i) in order.iter().enumerate() {
             slot[i as usize] = k as u32;

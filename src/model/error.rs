@@ -40,7 +40,7 @@ pub enum LoadError {
         reason: String,
     },
     /// The file decompresses to more than the limit
-    /// ([`super::LoadOptions::decompressed_limit`]).
+    /// ([`field@super::LoadOptions::decompressed_limit`]).
     #[error("{path}: {}", crate::text::SourceError::TooLarge { limit: *limit })]
     TooLarge {
         /// The file.

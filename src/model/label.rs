@@ -19,6 +19,17 @@ use std::ops::Deref;
 
 use serde::{Serialize, Serializer};
 
+/// An atom name (`CA`, `O5'`; SDF: element and index, `Cl12`).
+pub type AtomName = Label<8>;
+/// A residue name (`ALA`, a 5-character CCD code; SDF: the title, cut).
+pub type ResidueName = Label<8>;
+/// A chain identifier (the PDB's are at most 4 characters).
+pub type ChainId = Label<5>;
+/// An insertion code (one character in every format).
+pub type InsertionCode = Label<2>;
+/// An element symbol, normalised (`C`, `Cl`), or an unknown one as written.
+pub type ElementSymbol = Label<3>;
+
 /// Text of at most `N` bytes of UTF-8 without NUL, stored inline.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Label<const N: usize>([u8; N]);
@@ -227,5 +238,7 @@ mod tests {
     fn labels_are_small() {
         assert_eq!(std::mem::size_of::<Label<8>>(), 8);
         assert_eq!(std::mem::size_of::<Option<Label<4>>>(), 5);
+        // An atom's identity and radius, as every structure keeps it.
+        assert_eq!(std::mem::size_of::<crate::model::AtomInfo>(), 48);
     }
 }

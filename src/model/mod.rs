@@ -62,9 +62,9 @@ pub const DECOMPRESSED_LIMIT_VAR: &str = "BUMP_MAX_DECOMPRESSED";
 
 impl LoadOptions {
     /// The decompressed-size limit in force (see
-    /// [`LoadOptions::decompressed_limit`]); a variable that does not hold
-    /// a size is passed over (the command line refuses it first).
-    pub fn decompressed_limit(&self) -> u64 {
+    /// [`field@LoadOptions::decompressed_limit`]); a variable that does not
+    /// hold a size is passed over (the command line refuses it first).
+    pub fn max_decompressed(&self) -> u64 {
         self.decompressed_limit
             .or_else(|| {
                 let v = std::env::var(DECOMPRESSED_LIMIT_VAR).ok()?;

@@ -9,29 +9,29 @@
 use glam::{DVec3, Vec3};
 use serde::Serialize;
 
-use super::label::Label;
+use super::label::{AtomName, ChainId, ElementSymbol, InsertionCode, ResidueName};
 
 /// One atom's identity, as the file gave it, plus its radius.
 ///
-/// The labels are [`Label`]s, kept inline (56 bytes an atom in all): they
+/// The labels are [`Label`](super::Label)s, kept inline (48 bytes an atom in all): they
 /// read as `&str` (deref, `Display`, comparison with `str`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct AtomInfo {
     /// The file's atom serial number (PDB/mmCIF), or the 1-based record order (SDF).
     pub serial: i64,
     /// Atom name (`CA`, `N1`, ...); for SDF, element plus index (`C3`).
-    pub name: Label<8>,
+    pub name: AtomName,
     /// Residue name (`TOP`, `ALA`); for SDF, the molecule's name (cut to
     /// 8 bytes) or `LIG`.
-    pub residue: Label<8>,
+    pub residue: ResidueName,
     /// Residue sequence number (0 for SDF).
     pub seq: i64,
     /// Insertion code, empty when none.
-    pub insertion: Label<4>,
+    pub insertion: InsertionCode,
     /// Chain identifier, empty when none.
-    pub chain: Label<8>,
+    pub chain: ChainId,
     /// Element symbol, normalised (`C`, `Cl`).
-    pub element: Label<4>,
+    pub element: ElementSymbol,
     /// Van der Waals radius in Å.
     pub radius: f32,
     /// True for N and O (possible hydrogen-bond partners).
@@ -124,7 +124,7 @@ pub(crate) fn test_carbon(serial: i64) -> AtomInfo {
         name: format!("C{serial}").into(),
         residue: "X".into(),
         seq: 1,
-        insertion: Label::EMPTY,
+        insertion: InsertionCode::EMPTY,
         chain: "A".into(),
         element: "C".into(),
         radius: 1.7,

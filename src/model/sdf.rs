@@ -44,7 +44,7 @@ const MAX_RESIDUE_CHARS: usize = 8;
 /// [`LoadError::NoAtoms`] for a file without records or a record without atoms
 /// left.
 pub fn load_sdf(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
-    let bytes = read_bytes(path, opts.decompressed_limit())?;
+    let bytes = read_bytes(path, opts.max_decompressed())?;
     let text = String::from_utf8_lossy(&bytes);
     let label = path.display().to_string();
     let mut loaded = parse_sdf(&text, &label, opts)?;

@@ -46,15 +46,16 @@ pub fn excerpt_bytes(bytes: &[u8]) -> String {
     }
 }
 
-/// A number as a message shows it: Rust's shortest round-trip form while it
-/// is at most 15 characters long, else in exponent form (`1e308`, not 309
-/// digits; `1.2345678901234567e-7`).
+/// A number as a message shows it: the shorter of Rust's shortest
+/// round-trip form and its exponent form, the plain one on a tie (`0.03`,
+/// `1e308` rather than 309 digits, `3e9`, `123456789`).
 pub fn short_number(v: f64) -> String {
     let plain = format!("{v}");
-    if plain.len() <= 15 {
-        plain
+    let exponent = format!("{v:e}");
+    if exponent.len() < plain.len() {
+        exponent
     } else {
-        format!("{v:e}")
+        plain
     }
 }
 
@@ -104,6 +105,9 @@ mod tests {
         assert_eq!(short_number(f64::INFINITY), "inf");
         assert_eq!(short_number(f64::NAN), "NaN");
         assert_eq!(short_number(1e-300), "1e-300");
+        assert_eq!(short_number(3e9), "3e9");
+        assert_eq!(short_number(1e6), "1e6");
+        assert_eq!(short_number(1500.0), "1500");
     }
 
     #[test]

@@ -10,10 +10,11 @@
 use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
 
-use crate::model::{AtomInfo, Label};
+use crate::model::AtomInfo;
+use crate::model::label::{AtomName, ChainId, InsertionCode};
 
 /// A residue: chain, sequence number, insertion code.
-type Residue = (Label<8>, i64, Label<4>);
+type Residue = (ChainId, i64, InsertionCode);
 
 /// Which of `atoms` to keep (`occupancy` and `alt`, the alternate-location
 /// code or 0, by atom): all of them unless some have alternates, then one
@@ -30,7 +31,7 @@ pub(super) fn one_per_site(atoms: &[AtomInfo], occupancy: &[f32], alt: &[u8]) ->
     if with_alternates.is_empty() {
         return keep;
     }
-    let mut best: HashMap<(Residue, Label<8>), usize> = HashMap::new();
+    let mut best: HashMap<(Residue, AtomName), usize> = HashMap::new();
     for (i, a) in atoms.iter().enumerate() {
         let r = residue(a);
         if !with_alternates.contains(&r) {

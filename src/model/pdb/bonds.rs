@@ -10,21 +10,22 @@
 
 use std::collections::{HashMap, HashSet};
 
-use crate::model::{AtomInfo, BondOrder, FileBond, Label};
+use crate::model::label::{AtomName, ChainId, InsertionCode, ResidueName};
+use crate::model::{AtomInfo, BondOrder, FileBond};
 
 /// One end of a bond named as mmCIF names it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(super) struct AtomRef {
     /// Chain (the author's, as atoms keep it).
-    pub chain: Label<8>,
+    pub chain: ChainId,
     /// Residue sequence number (the author's).
     pub seq: i64,
     /// Insertion code.
-    pub insertion: Label<4>,
+    pub insertion: InsertionCode,
     /// Atom name.
-    pub name: Label<8>,
+    pub name: AtomName,
     /// Residue name; empty when not given.
-    pub residue: Label<8>,
+    pub residue: ResidueName,
     /// Alternate location; 0 when not given.
     pub alt: u8,
 }
@@ -96,7 +97,7 @@ pub(super) fn resolve(
         }
     }
     if !pending.named.is_empty() {
-        type Key = (Label<8>, i64, Label<4>, Label<8>);
+        type Key = (ChainId, i64, InsertionCode, AtomName);
         let key = |r: &AtomRef| -> Key { (r.chain, r.seq, r.insertion, r.name) };
         let wanted: HashSet<Key> = pending
             .named
@@ -157,7 +158,7 @@ mod tests {
         let r = |name: &str, seq: i64, alt: u8| AtomRef {
             chain: "A".into(),
             seq,
-            insertion: Label::EMPTY,
+            insertion: InsertionCode::EMPTY,
             name: name.into(),
             residue: "X".into(),
             alt,

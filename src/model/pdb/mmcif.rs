@@ -27,6 +27,7 @@ use glam::DVec3;
 use super::bonds::{AtomRef, NamedBond};
 use super::guess::guess_from_name;
 use super::{Raw, ascii_line, check_position, element_label, line_error};
+use crate::model::label::{AtomName, ChainId, ElementSymbol, InsertionCode, ResidueName};
 use crate::model::{AtomInfo, BondOrder, Label, LoadError};
 use crate::text::{LineReader, excerpt};
 
@@ -345,6 +346,29 @@ impl<'a> CifReader<'a> {
                 ),
             ));
         }
+        // The common case, a whole row on its line (its values were
+        // counted above): read in place.
+        if self.mode == Mode::Body
+            && self.category.is_some()
+            && self.row.cells.is_empty()
+            && self.one_per_line == Some(true)
+            && tokens
+                .iter()
+                .all(|t| matches!(t.kind, Kind::Bare | Kind::Quoted))
+        {
+            self.row.cells.clear();
+            self.row.cells.extend(tokens.iter().map(|t| Cell {
+                start: t.start,
+                end: t.end,
+                quoted: t.kind == Kind::Quoted,
+                line: number,
+                column: column(t),
+            }));
+            self.values += tokens.len();
+            let result = self.emit(line);
+            self.row.cells.clear();
+            return result.map(|()| false);
+        }
         let first_row = matches!(self.mode, Mode::Header | Mode::Body)
             && self.one_per_line.is_none()
             && self.row.cells.is_empty()
@@ -519,8 +543,17 @@ impl<'a> CifReader<'a> {
 
     /// Hands a full row to its category.
     fn emit_row(&mut self) -> Result<(), LoadError> {
+        let text = std::mem::take(&mut self.row.text);
+        let result = self.emit(&text);
+        self.row.text = text;
+        result
+    }
+
+    /// Hands the row whose cells are `self.row.cells`, spans of `text`, to
+    /// its category.
+    fn emit(&mut self, text: &str) -> Result<(), LoadError> {
         let row = RowView {
-            text: &self.row.text,
+            text,
             cells: &self.row.cells,
         };
         match self.category {
@@ -740,7 +773,7 @@ struct AtomSite {
     /// Residues seen without a number: they are numbered in order.
     unnumbered: i64,
     /// The previous row's (chain, residue) when it had no number.
-    previous: Option<(Label<8>, Label<8>)>,
+    previous: Option<(ChainId, ResidueName)>,
 }
 
 /// A label read from a value, refused when longer than the label holds.
@@ -800,22 +833,21 @@ impl AtomSite {
             (Some(i), None) => return Err((i, "the atom id is missing".to_string())),
             (None, _) => i64::try_from(self.rows).unwrap_or(i64::MAX),
         };
-        let name: Label<8> = match row.get(Some(c.name)) {
+        let name: AtomName = match row.get(Some(c.name)) {
             Some(v) => label(v, "the atom name", c.name)?,
             None => return Err((c.name, format!("atom {serial} has no name"))),
         };
-        let residue: Label<8> = match row.get(Some(c.residue)) {
+        let residue: ResidueName = match row.get(Some(c.residue)) {
             Some(v) => label(v, "the residue name", c.residue)?,
             None => return Err((c.residue, format!("atom {serial} has no residue name"))),
         };
-        let element: Label<4> = match c.symbol {
+        let element: ElementSymbol = match c.symbol {
             None => Label::truncated(&guess_from_name(&name)),
             Some(s) => match row.get(Some(s)) {
                 Some(v) => {
-                    label::<4>(v, "the element symbol", s)?;
-                    element_label(v).ok_or_else(|| {
-                        (s, format!("the element symbol {} is too long", excerpt(v)))
-                    })?
+                    // Refuses control characters and overlong symbols.
+                    label::<{ ElementSymbol::CAPACITY }>(v, "the element symbol", s)?;
+                    element_label(v).unwrap_or_default()
                 }
                 None => {
                     return Err((
@@ -830,7 +862,7 @@ impl AtomSite {
         } else {
             c.label_chain
         };
-        let chain: Label<8> = match row.get(chain_column) {
+        let chain: ChainId = match row.get(chain_column) {
             Some(v) => label(v, "the chain", chain_column.unwrap_or(0))?,
             None => Label::EMPTY,
         };
@@ -857,7 +889,7 @@ impl AtomSite {
         if seq_column.is_some() && row.get(seq_column).is_some() {
             self.previous = None;
         }
-        let insertion: Label<4> = match row.get(c.insertion) {
+        let insertion: InsertionCode = match row.get(c.insertion) {
             Some(v) => label(v, "the insertion code", c.insertion.unwrap_or(0))?,
             None => Label::EMPTY,
         };

@@ -6,7 +6,7 @@
 //! The file is streamed, never held whole: a gzipped file (recognised by
 //! its magic bytes, whatever its name) is decompressed on a thread of its
 //! own a chunk ahead of the reader, up to the decompressed-size limit
-//! ([`LoadOptions::decompressed_limit`]), and lines end with LF, CRLF or a
+//! ([`field@LoadOptions::decompressed_limit`]), and lines end with LF, CRLF or a
 //! lone CR alike ([`crate::text::LineReader`], at most [`MAX_LINE`] bytes a
 //! line). Bytes outside ASCII read as `?`: no field that matters may hold
 //! them. Each atom is kept as it is read, in the compact form it keeps
@@ -45,6 +45,7 @@ use super::{
     AtomInfo, Hydrogens, Label, LoadError, LoadOptions, Loaded, MAX_FILE_COORDINATE, RadiiSet,
     Structure,
 };
+use crate::model::label::{ChainId, ElementSymbol, InsertionCode, ResidueName};
 use crate::text::{LineReader, SourceError, TextSource, lines::LineError};
 pub use guess::{guess_pdb_element, is_element_symbol};
 
@@ -90,7 +91,7 @@ impl Format {
 /// [`LoadError::NoAtoms`] when no atom is left.
 pub fn load_pdb_or_mmcif(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
     let label = path.display().to_string();
-    let source = TextSource::open(path, opts.decompressed_limit())
+    let source = TextSource::open(path, opts.max_decompressed())
         .map_err(|e| LoadError::from_source(&label, e))?;
     parse_source(
         source,
@@ -113,7 +114,7 @@ pub fn parse_bytes(
     name: &str,
     opts: &LoadOptions,
 ) -> Result<Loaded, LoadError> {
-    let source = TextSource::from_bytes(bytes, opts.decompressed_limit());
+    let source = TextSource::from_bytes(bytes, opts.max_decompressed());
     parse_source(source, format, label, name, opts)
 }
 
@@ -177,13 +178,14 @@ pub(crate) fn ascii_line<'a>(line: &'a [u8], scratch: &'a mut String) -> &'a str
 }
 
 /// An element symbol as atoms keep it, the first letter upper case and
-/// the rest lower (`CL` → `Cl`); `None` for one longer than 4 bytes.
-pub(crate) fn element_label(symbol: &str) -> Option<Label<4>> {
+/// the rest lower (`CL` → `Cl`); `None` for one longer than the label
+/// holds.
+pub(crate) fn element_label(symbol: &str) -> Option<ElementSymbol> {
     let t = symbol.trim();
-    if t.len() > 4 || !t.is_ascii() {
+    if t.len() > ElementSymbol::CAPACITY || !t.is_ascii() {
         return Label::new(&element::normalize_symbol(t));
     }
-    let mut b = [0u8; 4];
+    let mut b = [0u8; ElementSymbol::CAPACITY];
     for (i, c) in t.bytes().enumerate() {
         b[i] = if i == 0 {
             c.to_ascii_uppercase()
@@ -232,18 +234,29 @@ fn build(mut raw: Raw, label: &str, name: &str, opts: &LoadOptions) -> Result<Lo
     // (chain, seq, insertion code, name) of each dropped hydrogen's residue.
     let mut dropped_from = Vec::new();
     let mut lookup = RadiusLookup::new(opts.radii);
+    // Per element met: hydrogen, polar (a structure has a few elements).
+    let mut seen: Vec<(ElementSymbol, bool, bool)> = Vec::new();
     for (a, kept) in raw.atoms.iter_mut().zip(keep.iter_mut()) {
         if !*kept {
             continue;
         }
-        if opts.hydrogens == Hydrogens::Drop && element::is_hydrogen(&a.element) {
+        let (hydrogen, polar) = match seen.iter().find(|s| s.0 == a.element) {
+            Some(s) => (s.1, s.2),
+            None => {
+                let e = &a.element;
+                let first = (element::is_hydrogen(e), element::is_polar(e));
+                seen.push((a.element, first.0, first.1));
+                first
+            }
+        };
+        if opts.hydrogens == Hydrogens::Drop && hydrogen {
             *kept = false;
             dropped += 1;
             dropped_from.push((a.chain, a.seq, a.insertion, a.residue));
             continue;
         }
         a.radius = lookup.radius(&a.element);
-        a.polar = element::is_polar(&a.element);
+        a.polar = polar;
     }
     let alt = std::mem::take(&mut raw.alt);
     let bonds = bonds::resolve(&raw.bonds, &raw.atoms, &alt, &keep);
@@ -300,6 +313,8 @@ pub(crate) fn file_name(path: &Path) -> String {
 /// Looks up radii and remembers the elements the table lacks, for one warning each.
 pub(crate) struct RadiusLookup {
     radii: RadiiSet,
+    /// Elements met that the table knows, with their radii.
+    known: Vec<(String, f32)>,
     /// Unknown elements in first-seen order, with their atom counts.
     unknown: Vec<(String, usize)>,
 }
@@ -309,13 +324,20 @@ impl RadiusLookup {
     pub(crate) fn new(radii: RadiiSet) -> Self {
         Self {
             radii,
+            known: Vec::new(),
             unknown: Vec::new(),
         }
     }
 
     /// The radius of `element` (normalised symbol), or [`UNKNOWN_RADIUS`].
     pub(crate) fn radius(&mut self, element: &str) -> f32 {
+        if let Some(&(_, r)) = self.known.iter().find(|(e, _)| e == element) {
+            return r;
+        }
         if let Some(r) = self.radii.radius(element) {
+            if self.known.len() < 16 {
+                self.known.push((element.to_string(), r));
+            }
             return r;
         }
         if let Some(entry) = self.unknown.iter_mut().find(|(e, _)| e == element) {
@@ -348,12 +370,12 @@ impl RadiusLookup {
 /// `chain/seq`), once each, in first-seen order.
 fn residues_without(
     atoms: &[AtomInfo],
-    dropped: Vec<(Label<8>, i64, Label<4>, Label<8>)>,
+    dropped: Vec<(ChainId, i64, InsertionCode, ResidueName)>,
 ) -> Vec<(String, String)> {
     if dropped.is_empty() {
         return Vec::new();
     }
-    let kept: std::collections::HashSet<(Label<8>, i64, Label<4>, Label<8>)> = atoms
+    let kept: std::collections::HashSet<(ChainId, i64, InsertionCode, ResidueName)> = atoms
         .iter()
         .map(|a| (a.chain, a.seq, a.insertion, a.residue))
         .collect();

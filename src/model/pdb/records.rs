@@ -20,6 +20,7 @@ use glam::DVec3;
 
 use super::guess::{guess_from_name, guess_pdb_element};
 use super::{Raw, ascii_line, element_label, line_error};
+use crate::model::label::ElementSymbol;
 use crate::model::{AtomInfo, Label, LoadError, MAX_FILE_COORDINATE};
 use crate::text::{LineReader, excerpt};
 
@@ -129,7 +130,7 @@ struct AtomFields {
     seq: i64,
     position: DVec3,
     occupancy: f32,
-    element: Label<4>,
+    element: ElementSymbol,
 }
 
 /// Checks and reads an atom record. Refuses a record cut before its
