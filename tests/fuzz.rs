@@ -39,7 +39,7 @@ use bump::model::{LigandSpec, LoadOptions, receptor_only, split_complex};
 use bump::rng::Rng;
 use bump::session::log::SessionLog;
 use bump::text::TextSource;
-use fuzz_support::{Mutation, below, gzip, mutate};
+use fuzz_support::{Mutation, below, gzip, mutate, one_in};
 
 /// Inputs per reader in an ordinary test run.
 const DEFAULT_INPUTS: usize = 10_000;
@@ -205,7 +205,7 @@ fn fnv1a(s: &[u8]) -> u32 {
 /// Gives every log line that has a ` ~` check value the right one (but
 /// one time in eight, so that damaged lines are read too).
 fn recheck_log(rng: &mut Rng, data: &mut Vec<u8>) {
-    if rng.next_u64() % 8 == 0 || data.starts_with(&[0x1f, 0x8b]) {
+    if one_in(rng, 8) || data.starts_with(&[0x1f, 0x8b]) {
         return;
     }
     let mut out = Vec::with_capacity(data.len());

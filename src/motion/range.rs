@@ -117,6 +117,8 @@ pub fn check_displacement(d: DVec3) -> Result<DVec3, RangeError> {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
     use super::*;
 
     #[test]

@@ -80,6 +80,11 @@ pub fn below(rng: &mut Rng, n: usize) -> usize {
     }
 }
 
+/// True one time in `n`.
+pub fn one_in(rng: &mut Rng, n: u64) -> bool {
+    rng.next_u64().is_multiple_of(n)
+}
+
 /// Byte ranges of the lines of `data` (terminators excluded).
 fn line_spans(data: &[u8]) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
@@ -137,7 +142,7 @@ fn replace_number(rng: &mut Rng, data: &mut Vec<u8>, with: &[&str], whole_only: 
     }
     let (a, b) = spans[below(rng, spans.len())];
     let mut new = with[below(rng, with.len())].as_bytes().to_vec();
-    if rng.next_u64() % 2 == 0 && new.len() < b - a {
+    if one_in(rng, 2) && new.len() < b - a {
         let mut padded = vec![b' '; b - a - new.len()];
         padded.extend(new);
         new = padded;
@@ -184,7 +189,7 @@ pub fn apply(rng: &mut Rng, m: Mutation, data: &mut Vec<u8>) {
             if let Some((a, b)) = pick_line(rng) {
                 let mut line = data[a..b].to_vec();
                 line.push(b'\n');
-                let times = if rng.next_u64() % 8 == 0 {
+                let times = if one_in(rng, 8) {
                     1 + below(rng, 300)
                 } else {
                     1
@@ -220,7 +225,7 @@ pub fn apply(rng: &mut Rng, m: Mutation, data: &mut Vec<u8>) {
             if let Some((a, b)) = pick_line(rng) {
                 let at = a + below(rng, b - a + 1);
                 let n = 1 + below(rng, 3);
-                if rng.next_u64() % 2 == 0 {
+                if one_in(rng, 2) {
                     data.splice(at..at, std::iter::repeat_n(b' ', n));
                 } else {
                     let end = (at + n).min(b);
@@ -264,7 +269,7 @@ pub fn apply(rng: &mut Rng, m: Mutation, data: &mut Vec<u8>) {
             ];
             let what = inserts[below(rng, inserts.len())];
             let at = below(rng, data.len() + 1);
-            if rng.next_u64() % 2 == 0 && at < data.len() {
+            if one_in(rng, 2) && at < data.len() {
                 let end = (at + what.len()).min(data.len());
                 data.splice(at..end, what.iter().copied());
             } else {
@@ -272,12 +277,8 @@ pub fn apply(rng: &mut Rng, m: Mutation, data: &mut Vec<u8>) {
             }
         }
         Mutation::LineEndings => {
-            let to: &[u8] = if rng.next_u64() % 2 == 0 {
-                b"\r"
-            } else {
-                b"\r\n"
-            };
-            if rng.next_u64() % 4 == 0 {
+            let to: &[u8] = if one_in(rng, 2) { b"\r" } else { b"\r\n" };
+            if one_in(rng, 4) {
                 if let Some((_, b)) = pick_line(rng)
                     && b < data.len()
                 {
@@ -330,7 +331,7 @@ pub fn apply(rng: &mut Rng, m: Mutation, data: &mut Vec<u8>) {
         }
         Mutation::Gzip => *data = gzip(data),
         Mutation::GzipJunk => {
-            if rng.next_u64() % 2 == 0 {
+            if one_in(rng, 2) {
                 let mut junk = vec![0x1f, 0x8b, 8, 0];
                 junk.extend((0..below(rng, 200)).map(|_| rng.next_u64() as u8));
                 *data = junk;
@@ -338,7 +339,7 @@ pub fn apply(rng: &mut Rng, m: Mutation, data: &mut Vec<u8>) {
                 let z = gzip(data);
                 let cut = below(rng, z.len() + 1);
                 *data = z[..cut].to_vec();
-                if rng.next_u64() % 2 == 0 {
+                if one_in(rng, 2) {
                     data.extend_from_slice(b"trailing junk");
                 }
             }

@@ -57,6 +57,8 @@ pub(super) fn one_per_site(atoms: &[AtomInfo], occupancy: &[f32], alt: &[u8]) ->
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
     use super::*;
     use crate::model::molecule::test_carbon;
 

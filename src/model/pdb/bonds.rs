@@ -130,6 +130,8 @@ pub(super) fn resolve(
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
     use super::*;
     use crate::model::molecule::test_carbon;
 
