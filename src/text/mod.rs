@@ -46,13 +46,14 @@ pub fn excerpt_bytes(bytes: &[u8]) -> String {
     }
 }
 
-/// A number as a message shows it: the shorter of Rust's shortest
-/// round-trip form and its exponent form, the plain one on a tie (`0.03`,
-/// `1e308` rather than 309 digits, `3e9`, `123456789`).
+/// A number as a message shows it: Rust's shortest round-trip form, or its
+/// exponent form when that is shorter and the plain one runs past 8
+/// characters (`0.03`, `-0.001`, `123456789`, `3e9`, `1e308` rather than
+/// 309 digits).
 pub fn short_number(v: f64) -> String {
     let plain = format!("{v}");
     let exponent = format!("{v:e}");
-    if exponent.len() < plain.len() {
+    if plain.len() > 8 && exponent.len() < plain.len() {
         exponent
     } else {
         plain
@@ -108,7 +109,8 @@ mod tests {
         assert_eq!(short_number(f64::NAN), "NaN");
         assert_eq!(short_number(1e-300), "1e-300");
         assert_eq!(short_number(3e9), "3e9");
-        assert_eq!(short_number(1e6), "1e6");
+        assert_eq!(short_number(1e6), "1000000");
+        assert_eq!(short_number(-0.001), "-0.001");
         assert_eq!(short_number(1500.0), "1500");
     }
 
