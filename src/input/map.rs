@@ -25,6 +25,7 @@ use serde::Deserialize;
 use thiserror::Error;
 
 use crate::session::Motion6;
+use crate::text::{quoted, short_number};
 
 /// Longest map file read, bytes: maps are a few kilobytes.
 pub const MAX_MAP_BYTES: u64 = 1 << 20;
@@ -353,7 +354,10 @@ impl JoystickMap {
             if v.is_finite() && v > 0.0 {
                 Ok(v)
             } else {
-                Err(bad(format!("{what} must be a positive number, not {v}")))
+                Err(bad(format!(
+                    "{what} must be a positive number, not {}",
+                    short_number(v)
+                )))
             }
         };
         let translate_speed = positive("translate_speed", f.translate_speed)?;
@@ -365,7 +369,7 @@ impl JoystickMap {
         };
         let mut profiles = Vec::new();
         for p in f.profile {
-            let here = |what: String| bad(format!("profile `{}`: {what}", p.name));
+            let here = |what: String| bad(format!("profile {}: {what}", quoted(&p.name)));
             if !(1..=2).contains(&p.sticks) {
                 return Err(here(format!("sticks must be 1 or 2, not {}", p.sticks)));
             }
@@ -376,8 +380,10 @@ impl JoystickMap {
             for b in p.bindings {
                 if b.stick >= p.sticks {
                     return Err(here(format!(
-                        "binding of `{}` names stick {} but the profile has {} stick(s)",
-                        b.source, b.stick, p.sticks
+                        "binding of {} names stick {} but the profile has {} stick(s)",
+                        quoted(&b.source),
+                        b.stick,
+                        p.sticks
                     )));
                 }
                 let shape = Shape {
@@ -387,14 +393,15 @@ impl JoystickMap {
                 };
                 if !(0.0..1.0).contains(&shape.dead_zone) {
                     return Err(here(format!(
-                        "dead_zone of `{}` must be in [0, 1), not {}",
-                        b.source, shape.dead_zone
+                        "dead_zone of {} must be in [0, 1), not {}",
+                        quoted(&b.source),
+                        short_number(shape.dead_zone)
                     )));
                 }
                 if !(shape.curve.is_finite() && shape.curve > 0.0 && shape.scale.is_finite()) {
                     return Err(here(format!(
-                        "curve (> 0) or scale of `{}` is out of range",
-                        b.source
+                        "curve (> 0) or scale of {} is out of range",
+                        quoted(&b.source)
                     )));
                 }
                 bindings.push(Binding {

@@ -47,11 +47,12 @@ use super::{Command, FrameInput, Motion6};
 use crate::collide::Response;
 use crate::motion::Pose;
 use crate::motion::range::{check_displacement, check_position, check_seconds};
-use crate::text::{excerpt, format_bytes, split_lines};
+use crate::text::{excerpt, format_bytes, quoted, split_lines};
 
-/// Longest log read, bytes: about 15 million frame lines, days of
-/// recording at 60 frames a second.
-pub const MAX_LOG_BYTES: u64 = 1 << 30;
+/// Longest log read, bytes: some 3 million frames of moving input (14
+/// hours at 60 frames a second). Each frame read takes about 330 bytes,
+/// so the limit also bounds the memory a log can take.
+pub const MAX_LOG_BYTES: u64 = 256 << 20;
 
 /// The format version this build writes and reads.
 pub const VERSION: u32 = 1;
@@ -293,15 +294,6 @@ fn checked(line: &str) -> Result<&str, String> {
         return Err("the line is damaged (its check value does not match)".into());
     }
     Ok(body)
-}
-
-/// `text` in backquotes when it is short and printable, else an excerpt.
-fn quoted(text: &str) -> String {
-    if text.len() <= crate::text::EXCERPT_CHARS && !text.chars().any(char::is_control) {
-        format!("`{text}`")
-    } else {
-        excerpt(text)
-    }
 }
 
 fn num(s: &str) -> Result<f64, String> {

@@ -32,6 +32,16 @@ pub fn excerpt(text: &str) -> String {
     }
 }
 
+/// `text` in backquotes when it is short and printable (`` `CA` ``), else
+/// its [`excerpt`].
+pub fn quoted(text: &str) -> String {
+    if text.len() <= EXCERPT_CHARS && !text.chars().any(char::is_control) {
+        format!("`{text}`")
+    } else {
+        excerpt(text)
+    }
+}
+
 /// [`excerpt`] of bytes that may not be UTF-8 (invalid sequences shown as
 /// U+FFFD). Only the first few hundred bytes are looked at, so a huge
 /// input costs nothing.
@@ -86,6 +96,13 @@ mod tests {
         assert!(e.ends_with("(2000 bytes)"), "{e}");
         let exact = "x".repeat(EXCERPT_CHARS);
         assert_eq!(excerpt(&exact), format!("{exact:?}"));
+    }
+
+    #[test]
+    fn short_printable_text_is_backquoted() {
+        assert_eq!(quoted("CA"), "`CA`");
+        assert_eq!(quoted("a\tb"), "\"a\\tb\"");
+        assert!(quoted(&"x".repeat(1000)).ends_with("(1000 bytes)"));
     }
 
     #[test]
