@@ -417,17 +417,18 @@ $$$$
 
 /// A short session log, its lines checked.
 fn log_seed() -> Vec<u8> {
-    let mut text = b"bump-log 1\n# a comment\nmeta file x.pdb\n".to_vec();
+    let mut text = b"bump-log 2\n# a comment\nmeta file x.pdb\n".to_vec();
     for line in [
         "f 0.016666666666666666",
         "f 0.016666666666666666 v=0.0,0.0,1.5,0.0,0.4363323129985824,0.0 z=-2.5",
         "f 0.017 n=1.0,2.0,3.0,0.0,0.0,0.0 c=mode c=select:1 c=response:slide",
         "f 0.0 c=move:1.5,-2.0,1e-9,0.0,1.0,0.0,0.1 c=undo c=rock",
+        "f 0.02 c=fit-all k=down:tx+:coarse:0.0123 k=up:rz-:normal:0.015",
         "final 0 1.0 2.0 3.0 0.0 0.0 0.0 1.0",
     ] {
         text.extend_from_slice(format!("{line} ~{:08x}\n", fnv1a(line.as_bytes())).as_bytes());
     }
-    text.extend_from_slice(b"end 4\n");
+    text.extend_from_slice(b"end 5\n");
     text
 }
 

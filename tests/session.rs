@@ -421,3 +421,146 @@ fn a_turned_and_moved_receptor_stops_the_drug_at_contact_where_it_stands() {
     }
     assert!(blocked > 0, "the E never reached the turned rings");
 }
+
+/// Pushes the drug (molecule 1) of `s` along `dir` frame after frame
+/// with `response`, as a held key does (a 0.2 Å tap, then 0.064 Å a frame);
+/// checks that every frame shows exactly the pairs within tolerance of
+/// contact at the pose shown, and returns how many each frame showed.
+fn pressed(mut s: Session, response: Response, dir: DVec3) -> Vec<usize> {
+    s.step(&FrameInput::docking(), 0.0);
+    s.step(
+        &FrameInput::with_commands(&[Command::SetResponse(response)]),
+        0.0,
+    );
+    let rule = s.settings().rule;
+    let tol = s.settings().touch.tolerance as f32;
+    let mut seen = Vec::new();
+    for k in 0..60 {
+        let step = if k % 10 == 0 { 0.2 } else { 0.064 };
+        let out = s.step(&push(dir.normalize() * step), 1.0 / 60.0);
+        assert_eq!(s.contacts(), out.contacts.as_slice());
+        let (rec, drug) = (world(&s, 0), world(&s, 1));
+        let (ra, da) = (&s.bodies()[0].molecule.atoms, &s.bodies()[1].molecule.atoms);
+        for (i, x) in drug.iter().enumerate() {
+            for (j, q) in rec.iter().enumerate() {
+                let c = rule.contact_distance(da[i].radius, da[i].polar, ra[j].radius, ra[j].polar);
+                let d = (*x - *q).length() as f32;
+                let shown = s
+                    .contacts()
+                    .iter()
+                    .any(|p| p.moving.1 == i && p.other.1 == j);
+                assert!(
+                    shown || d > c + tol - 1e-4,
+                    "{response:?} {dir} frame {k}: pair {i}-{j} within tolerance ({d} Å, contact {c}) not shown"
+                );
+                assert!(
+                    !shown || d <= c + tol + 1e-4,
+                    "{response:?} {dir} frame {k}: pair {i}-{j} shown but {d} Å apart (contact {c})"
+                );
+            }
+        }
+        seen.push(s.contacts().len());
+    }
+    seen
+}
+
+#[test]
+fn contacts_shown_are_those_of_the_pose_shown_in_every_response() {
+    for response in Response::ALL {
+        let mut s = builtin_session();
+        s.step(&push(DVec3::ZERO), 0.0);
+        s.step(
+            &FrameInput::with_commands(&[Command::MoveBy {
+                translate: DVec3::new(0.0, 5.0, 0.0),
+                axis: DVec3::Z,
+                degrees: 0.0,
+            }]),
+            0.0,
+        );
+        pressed(s, response, DVec3::new(0.0, 0.0, 1.0));
+    }
+}
+
+#[test]
+fn a_drug_pressed_into_its_pocket_with_slide_shows_its_contacts_every_frame() {
+    // Trimethoprim in DHFR (issue 42: "Contacts: 3" for one frame, then 0,
+    // while the drug could not move): the slide's tangent legs ended just
+    // clear of the atoms they slid along.
+    let dir = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb"));
+    let file = dir.join("6xg5_tmp_prepared.pdb");
+    if !file.is_file() {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI must have {}",
+            file.display()
+        );
+        eprintln!("SKIP: {} not found", file.display());
+        return;
+    }
+    let loaded = bump::model::load(&file, &bump::model::LoadOptions::default()).expect("load");
+    let spec = bump::model::LigandSpec::parse("TOP").expect("spec");
+    let (r, d) = bump::model::split_complex(&loaded.structure, &spec).expect("split");
+    for push_dir in [DVec3::Z, DVec3::X, -DVec3::Y, DVec3::new(0.3, 0.5, -1.0)] {
+        let s = Session::new(vec![r.clone(), d.clone()], Settings::default()).expect("session");
+        let seen = pressed(s, Response::Slide, push_dir);
+        // From the first contact on, the drug stays pressed against the pocket.
+        let first = seen
+            .iter()
+            .position(|&n| n > 0)
+            .expect("the drug met the pocket");
+        assert!(
+            seen[first..].iter().all(|&n| n > 0),
+            "{push_dir}: frames without contacts while pressed: {seen:?}"
+        );
+    }
+}
+
+#[test]
+fn moves_since_the_last_save_are_unsaved_and_ask_before_quitting() {
+    let mut s = builtin_session();
+    assert!(s.unsaved().is_empty(), "nothing moved yet");
+    s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
+    s.step(&push(DVec3::new(1.0, 0.0, 0.0)), 0.0);
+    assert_eq!(s.unsaved(), [1]);
+    s.mark_saved(1);
+    assert!(s.unsaved().is_empty());
+    s.step(&FrameInput::default(), 0.0); // the gesture ends
+    s.step(&push(DVec3::new(0.0, 1.0, 0.0)), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
+    assert!(s.unsaved().is_empty(), "back where it was saved");
+    // The view is not a pose: turning it leaves nothing unsaved.
+    s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
+    s.step(&FrameInput::nudged(DVec3::ZERO, DVec3::Y), 0.0);
+    assert!(s.unsaved().is_empty());
+}
+
+#[test]
+fn the_view_commands_centre_on_the_drug_and_fit_everything() {
+    let mut s = builtin_session();
+    let home = *s.camera();
+    s.step(&FrameInput::with_commands(&[Command::CentreOnDrug]), 0.0);
+    let drug = s.bodies()[1].pose.translation;
+    assert!((s.camera().centre - drug).length() < 1e-12);
+    assert!(s.camera().distance < home.distance, "closer on the drug");
+    s.step(&FrameInput::with_commands(&[Command::FitAll]), 0.0);
+    assert!((s.camera().centre - home.centre).length() < 1e-9);
+    // The load view: the drug at the centre, every molecule in view; V
+    // comes back to it.
+    s.step(&FrameInput::with_commands(&[Command::ViewDrug]), 0.0);
+    let view = *s.camera();
+    assert!((view.centre - drug).length() < 1e-12);
+    s.step(&FrameInput::nudged(DVec3::X, DVec3::Y), 0.0);
+    s.step(&FrameInput::with_commands(&[Command::ResetView]), 0.0);
+    assert_eq!(*s.camera(), view);
+    // Files that arrive later re-home the view, but move it only while
+    // the user has not moved it.
+    s.step(&FrameInput::nudged(DVec3::X, DVec3::ZERO), 0.0);
+    let moved = *s.camera();
+    s.step(&FrameInput::with_commands(&[Command::ViewDrug]), 0.0);
+    assert_eq!(*s.camera(), moved);
+    // The rings are one residue, like a drug, but the larger of two small
+    // molecules is the receptor.
+    assert_eq!(s.role(0), Some(bump::session::Role::Receptor));
+    assert_eq!(s.role(1), Some(bump::session::Role::Drug));
+    assert_eq!(s.drug(), Some(1));
+}

@@ -2,7 +2,7 @@
 //! is reported and the built-in scene opens instead), type keys with xdotool
 //! (object mode, collision on), push the E into the rings with typed moves,
 //! and check screenshots until they show the HUD and the contact highlights;
-//! then quit with `q`.
+//! then quit with `q` (which asks, as the E moved) and `d` (without saving).
 //!
 //! Needs `Xvfb`, `xdotool` and ImageMagick's `import` (CI installs them);
 //! elsewhere a missing tool skips the test with a message.
@@ -71,15 +71,18 @@ fn docking_in_a_real_window_shows_the_hud_and_highlights() {
         "bad file not reported\n{text}"
     );
     assert!(text.contains("built-in scene"), "no fallback scene\n{text}");
-    // q quits cleanly.
+    // q asks (the E moved since it was loaded); d quits without saving.
     taps(&display, "q", 1);
+    sleep(Duration::from_millis(500));
+    assert!(app.0.try_wait().expect("wait").is_none(), "q quit unasked");
+    taps(&display, "d", 1);
     let t1 = Instant::now();
     loop {
         if let Some(status) = app.0.try_wait().expect("wait") {
             assert!(status.success(), "bump exited with {status}\n{text}");
             break;
         }
-        assert!(t1.elapsed() < Duration::from_secs(20), "q did not quit");
+        assert!(t1.elapsed() < Duration::from_secs(20), "q, d did not quit");
         sleep(Duration::from_millis(100));
     }
 }

@@ -48,8 +48,10 @@ fn a_window_recording_replays_bit_for_bit_headless_and_in_a_window() {
     sleep(Duration::from_millis(800));
     taps(&d, "Escape", 1); // leave the text field
     sleep(Duration::from_millis(200));
-    taps(&d, "q", 1);
-    let (out, text) = finish(&mut app, &log, 30, "the recording run (q)");
+    taps(&d, "q", 1); // the E moved: bump asks before quitting
+    sleep(Duration::from_millis(500));
+    taps(&d, "d", 1); // quit without saving
+    let (out, text) = finish(&mut app, &log, 30, "the recording run (q, d)");
     assert!(
         out.contains("timing report"),
         "no report on exit\n{out}\n{text}"

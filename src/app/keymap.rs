@@ -1,51 +1,20 @@
-//! The keyboard map: keys to session commands and to 6-DOF motion.
+//! The keyboard map: one table of every binding, from which the window
+//! looks keys up, the help (F1) lists them and `docs/keys.md` is written.
 //!
-//! Pure and unit-tested; the window feeds it winit key codes. Held motion keys
-//! give a velocity (motion per second, so speed does not depend on the frame
-//! rate); a tap moves one step. Shift is coarse (×5), Alt fine (×0.2).
-//!
-//! | key | action |
-//! | --- | --- |
-//! | Space | view mode ↔ object mode |
-//! | J | select the next molecule |
-//! | C | collision detection on/off |
-//! | R | next collision response (stop, touch, slide, pass) |
-//! | O | screen-space ↔ object-space motion |
-//! | L | light mode: the rotation keys turn the light |
-//! | B | background flash on contact on/off |
-//! | ← → ↑ ↓ | translate x / y |
-//! | Page Up / Page Down | translate towards / away from the viewer |
-//! | W / S | rotate about the screen's x axis |
-//! | A / D | rotate about the vertical axis |
-//! | Z / X | twist about the depth axis |
-//! | Ctrl+Z, Ctrl+Y (Ctrl+Shift+Z) | undo, redo |
-//! | Ctrl+S | save the selected molecule (in the receptor's frame) as PDB and SDF |
-//! | Ctrl+O | open a file (or drop one on the window) |
-//! | Home | reset the selected molecule to its loaded pose |
-//! | V | reset the view |
-//! | K | rocking on/off; `,` `.` narrower / wider swing |
-//! | 3 | next stereo mode (the thesis's S turns the view here) |
-//! | [ ] | eyes closer / further apart; `-` `=` convergence nearer / farther |
-//! | E | swap the eyes |
-//! | F | depth cueing on/off; 9 / 0 weaker / stronger |
-//! | I, M, H, T | outlines, ambient occlusion, shadows, translucent receptor |
-//! | F1 or ? | help |
-//! | F12 | screenshot (PNG) |
-//! | Q, Escape | quit |
+//! A binding is a key with exactly the modifiers it names: Shift+S is not S.
+//! Motion keys ([`Action::Step`]) are bound three times: alone (a normal
+//! step), with Shift (coarse) and with Alt (fine); every other key is bound
+//! once per row of the table. A test checks that no key and modifier pair
+//! is bound twice, and that `docs/keys.md` is what the table says.
 
-use glam::DVec3;
 use winit::keyboard::KeyCode;
 
 use super::stereo::CueAction;
-use crate::session::{Command, Motion6};
-
-/// Translation speed of a held key, Å per second (before modifiers).
-pub const TRANSLATE_SPEED: f64 = 4.0;
-/// Rotation speed of a held key, degrees per second (before modifiers).
-pub const ROTATE_SPEED: f64 = 45.0;
+use crate::session::keys::{REPEAT_DELAY, REPEAT_RATE};
+use crate::session::{Command, StepAxis, StepKey, StepSize};
 
 /// Modifier keys held.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
 pub struct Mods {
     /// Shift.
     pub shift: bool,
@@ -56,22 +25,64 @@ pub struct Mods {
 }
 
 impl Mods {
-    /// Speed factor: Shift coarse ×5, Alt fine ×0.2.
-    pub fn scale(&self) -> f64 {
-        if self.shift {
-            5.0
-        } else if self.alt {
-            0.2
-        } else {
-            1.0
+    /// No modifier.
+    pub const NONE: Mods = Mods {
+        shift: false,
+        ctrl: false,
+        alt: false,
+    };
+    /// Shift alone.
+    pub const SHIFT: Mods = Mods {
+        shift: true,
+        ..Self::NONE
+    };
+    /// Control alone.
+    pub const CTRL: Mods = Mods {
+        ctrl: true,
+        ..Self::NONE
+    };
+    /// Alt alone.
+    pub const ALT: Mods = Mods {
+        alt: true,
+        ..Self::NONE
+    };
+    /// Control and Shift.
+    pub const CTRL_SHIFT: Mods = Mods {
+        ctrl: true,
+        shift: true,
+        alt: false,
+    };
+
+    /// The step size these modifiers give a motion key, if any.
+    pub fn step_size(self) -> Option<StepSize> {
+        match self {
+            Self::NONE => Some(StepSize::Normal),
+            Self::SHIFT => Some(StepSize::Coarse),
+            Self::ALT => Some(StepSize::Fine),
+            _ => None,
         }
+    }
+
+    /// `Ctrl+Shift+` and the like.
+    fn prefix(self) -> String {
+        let mut s = String::new();
+        if self.ctrl {
+            s.push_str("Ctrl+");
+        }
+        if self.alt {
+            s.push_str("Alt+");
+        }
+        if self.shift {
+            s.push_str("Shift+");
+        }
+        s
     }
 }
 
 /// What a key press means outside the session.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ShellAction {
-    /// Show or hide the help overlay.
+    /// Show or hide the help.
     ToggleHelp,
     /// Save a screenshot.
     Screenshot,
@@ -83,291 +94,510 @@ pub enum ShellAction {
     SavePose,
     /// Show the Open dialog.
     Open,
+    /// Quit (asking first when moves are unsaved).
+    Quit,
+    /// Close the topmost dialog; with none open, quit as [`ShellAction::Quit`].
+    Escape,
     /// Change a depth cue or the stereo settings.
     Cue(CueAction),
 }
 
-/// A key press, translated.
+/// What a binding does.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum KeyAction {
+pub enum Action {
     /// A session command.
     Session(Command),
     /// Something the window handles.
     Shell(ShellAction),
+    /// A motion key: one step per press, repeating while held (the size
+    /// comes from the modifiers).
+    Step(StepKey),
 }
 
-/// The discrete action of a key press, if any.
-pub fn action(key: KeyCode, mods: Mods) -> Option<KeyAction> {
-    use KeyAction::{Session as S, Shell};
-    Some(match key {
-        KeyCode::Space => S(Command::ToggleMode),
-        KeyCode::KeyJ => S(Command::NextMolecule),
-        KeyCode::KeyC => S(Command::ToggleCollision),
-        KeyCode::KeyR => S(Command::CycleResponse),
-        KeyCode::KeyO if !mods.ctrl => S(Command::ToggleSpace),
-        KeyCode::KeyZ if mods.ctrl && mods.shift => S(Command::Redo),
-        KeyCode::KeyZ if mods.ctrl => S(Command::Undo),
-        KeyCode::KeyY if mods.ctrl => S(Command::Redo),
-        KeyCode::KeyS if mods.ctrl => Shell(ShellAction::SavePose),
-        KeyCode::KeyO if mods.ctrl => Shell(ShellAction::Open),
-        KeyCode::Home => S(Command::ResetMolecule),
-        KeyCode::KeyV => S(Command::ResetView),
-        KeyCode::KeyQ | KeyCode::Escape => S(Command::Quit),
-        KeyCode::F1 => Shell(ShellAction::ToggleHelp),
-        KeyCode::Slash if mods.shift => Shell(ShellAction::ToggleHelp),
-        KeyCode::F12 => Shell(ShellAction::Screenshot),
-        KeyCode::KeyL => Shell(ShellAction::ToggleLight),
-        KeyCode::KeyB => Shell(ShellAction::ToggleFlash),
-        KeyCode::KeyK => S(Command::ToggleRocking),
-        KeyCode::Comma => S(Command::RockLess),
-        KeyCode::Period => S(Command::RockMore),
-        // The thesis's `S` (a capital: Shift+S); plain S turns about x.
-        KeyCode::KeyS if mods.shift => Shell(ShellAction::Cue(CueAction::CycleStereo)),
-        KeyCode::Digit3 => Shell(ShellAction::Cue(CueAction::CycleStereo)),
-        KeyCode::BracketLeft => Shell(ShellAction::Cue(CueAction::EyesCloser)),
-        KeyCode::BracketRight => Shell(ShellAction::Cue(CueAction::EyesApart)),
-        KeyCode::Minus => Shell(ShellAction::Cue(CueAction::ConvergeNearer)),
-        KeyCode::Equal => Shell(ShellAction::Cue(CueAction::ConvergeFarther)),
-        KeyCode::KeyE => Shell(ShellAction::Cue(CueAction::SwapEyes)),
-        KeyCode::KeyF => Shell(ShellAction::Cue(CueAction::DepthCue)),
-        KeyCode::Digit9 => Shell(ShellAction::Cue(CueAction::DepthCueLess)),
-        KeyCode::Digit0 => Shell(ShellAction::Cue(CueAction::DepthCueMore)),
-        KeyCode::KeyI => Shell(ShellAction::Cue(CueAction::Outline)),
-        KeyCode::KeyM => Shell(ShellAction::Cue(CueAction::Occlusion)),
-        KeyCode::KeyH => Shell(ShellAction::Cue(CueAction::Shadow)),
-        KeyCode::KeyT => Shell(ShellAction::Cue(CueAction::Translucent)),
-        _ => return None,
-    })
+/// One row of the table: keys (with their exact modifiers), what they do,
+/// and the help text.
+#[derive(Debug, Clone, Copy)]
+pub struct Entry {
+    /// The keys, each with the modifiers it needs.
+    pub keys: &'static [(KeyCode, Mods)],
+    /// What they do.
+    pub action: Action,
+    /// The help line.
+    pub help: &'static str,
 }
 
-/// The unit motion of a motion key: translation (Å) or rotation (unit axis),
-/// screen axes. `None` for other keys, and for Z/X with Ctrl (undo/redo).
-pub fn motion_of(key: KeyCode, mods: Mods) -> Option<Motion6> {
-    let t = |v: DVec3| Motion6 {
-        translate: v,
-        rotate: DVec3::ZERO,
-    };
-    let r = |v: DVec3| Motion6 {
-        translate: DVec3::ZERO,
-        rotate: v,
-    };
-    if mods.ctrl || (mods.shift && key == KeyCode::KeyS) {
-        return None;
-    }
-    Some(match key {
-        KeyCode::ArrowLeft => t(-DVec3::X),
-        KeyCode::ArrowRight => t(DVec3::X),
-        KeyCode::ArrowUp => t(DVec3::Y),
-        KeyCode::ArrowDown => t(-DVec3::Y),
-        KeyCode::PageUp => t(DVec3::Z),
-        KeyCode::PageDown => t(-DVec3::Z),
-        KeyCode::KeyW => r(-DVec3::X),
-        KeyCode::KeyS => r(DVec3::X),
-        KeyCode::KeyA => r(-DVec3::Y),
-        KeyCode::KeyD => r(DVec3::Y),
-        KeyCode::KeyZ => r(DVec3::Z),
-        KeyCode::KeyX => r(-DVec3::Z),
-        _ => return None,
-    })
+const fn row(keys: &'static [(KeyCode, Mods)], action: Action, help: &'static str) -> Entry {
+    Entry { keys, action, help }
 }
 
-/// The velocity from every motion key held: Å/s and rad/s, screen axes.
-pub fn velocity(held: &[KeyCode], mods: Mods) -> Motion6 {
-    let mut v = Motion6::ZERO;
-    for k in held {
-        if let Some(m) = motion_of(*k, mods) {
-            v = v.plus(&m);
-        }
-    }
-    let s = mods.scale();
-    Motion6 {
-        translate: v.translate * (TRANSLATE_SPEED * s),
-        rotate: v.rotate * (ROTATE_SPEED.to_radians() * s),
+const fn step(keys: &'static [(KeyCode, Mods)], k: StepKey, help: &'static str) -> Entry {
+    // The table holds the plain key; Shift and Alt are added by `bindings`.
+    Entry {
+        keys,
+        action: Action::Step(k),
+        help,
     }
 }
 
-/// The one-step motion of a tap: what a held key does in 1/20 s.
-pub fn tap(key: KeyCode, mods: Mods) -> Option<Motion6> {
-    motion_of(key, mods).map(|_| velocity(&[key], mods).scaled(0.05))
-}
+use Action::{Session as S, Shell as W};
+use KeyCode as K;
 
-/// Lines for the help overlay and the README.
-pub const HELP: &[(&str, &str)] = &[
-    ("Space", "view mode / object mode"),
-    ("J", "select the next molecule (or click an atom)"),
-    ("C", "collision detection on/off"),
-    ("R", "next collision response: stop, touch, slide, pass"),
-    ("O", "screen-space / object-space motion"),
-    ("L", "light mode: W A S D Z X turn the light"),
-    ("B", "background flash on contact on/off"),
-    ("Arrows, Page Up/Down", "translate x, y, z (z towards you)"),
-    ("W/S, A/D, Z/X", "rotate about x, y (vertical), z (depth)"),
-    ("Shift / Alt", "coarse (×5) / fine (×0.2)"),
-    ("Ctrl+Z, Ctrl+Y", "undo, redo"),
-    (
-        "Ctrl+S",
-        "save the selected molecule's pose (receptor frame) as PDB and SDF",
+const N: Mods = Mods::NONE;
+
+/// Every binding, in the order the help lists them.
+pub const TABLE: &[Entry] = &[
+    row(
+        &[(K::Space, N)],
+        S(Command::ToggleMode),
+        "view mode ↔ object mode (what the motion keys move)",
     ),
-    ("Ctrl+O", "open a file (or drop files on the window)"),
-    ("Home / V", "reset molecule / reset view"),
-    (
-        "Mouse drag",
-        "rotate the view; Shift or middle drag pans; wheel zooms",
+    step(
+        &[(K::ArrowLeft, N)],
+        StepKey::translate(StepAxis::X, false),
+        "move left",
     ),
-    ("Ctrl+drag", "move the selected molecule"),
-    ("Click", "select the molecule of an atom and show the atom"),
-    ("K; , .", "rocking on/off; narrower / wider swing"),
-    (
-        "3 or Shift+S",
+    step(
+        &[(K::ArrowRight, N)],
+        StepKey::translate(StepAxis::X, true),
+        "move right",
+    ),
+    step(
+        &[(K::ArrowUp, N)],
+        StepKey::translate(StepAxis::Y, true),
+        "move up",
+    ),
+    step(
+        &[(K::ArrowDown, N)],
+        StepKey::translate(StepAxis::Y, false),
+        "move down",
+    ),
+    step(
+        &[(K::PageUp, N)],
+        StepKey::translate(StepAxis::Z, true),
+        "move towards you",
+    ),
+    step(
+        &[(K::PageDown, N)],
+        StepKey::translate(StepAxis::Z, false),
+        "move away from you",
+    ),
+    step(
+        &[(K::KeyW, N)],
+        StepKey::turn(StepAxis::X, false),
+        "tilt: top away from you (about the screen's x axis)",
+    ),
+    step(
+        &[(K::KeyS, N)],
+        StepKey::turn(StepAxis::X, true),
+        "tilt: top towards you",
+    ),
+    step(
+        &[(K::KeyA, N)],
+        StepKey::turn(StepAxis::Y, false),
+        "turn left (about the vertical axis)",
+    ),
+    step(
+        &[(K::KeyD, N)],
+        StepKey::turn(StepAxis::Y, true),
+        "turn right",
+    ),
+    step(
+        &[(K::KeyZ, N)],
+        StepKey::turn(StepAxis::Z, true),
+        "twist anticlockwise (about the depth axis)",
+    ),
+    step(
+        &[(K::KeyX, N)],
+        StepKey::turn(StepAxis::Z, false),
+        "twist clockwise",
+    ),
+    row(
+        &[(K::KeyJ, N)],
+        S(Command::NextMolecule),
+        "select the next molecule (or Ctrl+click one of its atoms)",
+    ),
+    row(
+        &[(K::KeyC, N)],
+        S(Command::ToggleCollision),
+        "collision detection on/off",
+    ),
+    row(
+        &[(K::KeyR, N)],
+        S(Command::CycleResponse),
+        "next collision response: stop, touch, slide, pass",
+    ),
+    row(
+        &[(K::KeyO, N)],
+        S(Command::ToggleSpace),
+        "screen axes ↔ the molecule's own axes",
+    ),
+    row(
+        &[(K::KeyL, N)],
+        W(ShellAction::ToggleLight),
+        "light mode: the turn keys turn the light",
+    ),
+    row(
+        &[(K::KeyB, N)],
+        W(ShellAction::ToggleFlash),
+        "background flash on contact on/off",
+    ),
+    row(&[(K::KeyZ, Mods::CTRL)], S(Command::Undo), "undo a move"),
+    row(
+        &[(K::KeyY, Mods::CTRL), (K::KeyZ, Mods::CTRL_SHIFT)],
+        S(Command::Redo),
+        "redo",
+    ),
+    row(
+        &[(K::Home, N)],
+        S(Command::ResetMolecule),
+        "put the selected molecule back where it was loaded",
+    ),
+    row(
+        &[(K::KeyG, N)],
+        S(Command::CentreOnDrug),
+        "centre the view on the drug",
+    ),
+    row(
+        &[(K::KeyV, Mods::SHIFT)],
+        S(Command::FitAll),
+        "fit everything in the view",
+    ),
+    row(
+        &[(K::KeyV, N)],
+        S(Command::ResetView),
+        "reset the view (the drug in front, as on load)",
+    ),
+    row(
+        &[(K::KeyS, Mods::CTRL)],
+        W(ShellAction::SavePose),
+        "save the selected molecule in the receptor's frame as NAME-docked.pdb and .sdf (never overwrites: -2, -3, …)",
+    ),
+    row(
+        &[(K::KeyO, Mods::CTRL)],
+        W(ShellAction::Open),
+        "open a file (or drop files on the window)",
+    ),
+    row(&[(K::KeyK, N)], S(Command::ToggleRocking), "rocking on/off"),
+    row(
+        &[(K::Comma, N)],
+        S(Command::RockLess),
+        "rock with a narrower swing",
+    ),
+    row(
+        &[(K::Period, N)],
+        S(Command::RockMore),
+        "rock with a wider swing",
+    ),
+    row(
+        &[(K::Digit3, N)],
+        W(ShellAction::Cue(CueAction::CycleStereo)),
         "next stereo mode: side by side, top-bottom, rows, columns, anaglyph, frame-sequential, mono",
     ),
-    (
-        "[ ]; - =; E",
-        "eye separation; convergence nearer / farther; swap eyes",
+    row(
+        &[(K::BracketLeft, N)],
+        W(ShellAction::Cue(CueAction::EyesCloser)),
+        "eyes closer together",
     ),
-    ("F; 9 0", "depth cueing on/off; weaker / stronger"),
-    ("I / M", "silhouette outlines / ambient occlusion on/off"),
-    ("H / T", "shadows / translucent receptor on/off"),
-    ("F12", "screenshot (PNG)"),
-    ("F1 or ?", "this help"),
-    ("Q or Escape", "quit"),
+    row(
+        &[(K::BracketRight, N)],
+        W(ShellAction::Cue(CueAction::EyesApart)),
+        "eyes further apart",
+    ),
+    row(
+        &[(K::Minus, N)],
+        W(ShellAction::Cue(CueAction::ConvergeNearer)),
+        "convergence nearer",
+    ),
+    row(
+        &[(K::Equal, N)],
+        W(ShellAction::Cue(CueAction::ConvergeFarther)),
+        "convergence farther",
+    ),
+    row(
+        &[(K::KeyE, N)],
+        W(ShellAction::Cue(CueAction::SwapEyes)),
+        "swap the eyes",
+    ),
+    row(
+        &[(K::KeyF, N)],
+        W(ShellAction::Cue(CueAction::DepthCue)),
+        "depth cueing on/off",
+    ),
+    row(
+        &[(K::Digit9, N)],
+        W(ShellAction::Cue(CueAction::DepthCueLess)),
+        "weaker depth cueing",
+    ),
+    row(
+        &[(K::Digit0, N)],
+        W(ShellAction::Cue(CueAction::DepthCueMore)),
+        "stronger depth cueing",
+    ),
+    row(
+        &[(K::KeyI, N)],
+        W(ShellAction::Cue(CueAction::Outline)),
+        "silhouette outlines on/off",
+    ),
+    row(
+        &[(K::KeyM, N)],
+        W(ShellAction::Cue(CueAction::Occlusion)),
+        "ambient occlusion on/off",
+    ),
+    row(
+        &[(K::KeyH, N)],
+        W(ShellAction::Cue(CueAction::Shadow)),
+        "shadows on/off",
+    ),
+    row(
+        &[(K::KeyT, N)],
+        W(ShellAction::Cue(CueAction::Translucent)),
+        "translucent receptor on/off",
+    ),
+    row(
+        &[(K::F12, N)],
+        W(ShellAction::Screenshot),
+        "screenshot: bump-SCENE-DATE-TIME.png in the current folder",
+    ),
+    row(
+        &[(K::F1, N), (K::Slash, Mods::SHIFT)],
+        W(ShellAction::ToggleHelp),
+        "this help",
+    ),
+    row(
+        &[(K::Escape, N)],
+        W(ShellAction::Escape),
+        "close the topmost dialog (help, Open, …); with none open, quit",
+    ),
+    row(
+        &[(K::KeyQ, N)],
+        W(ShellAction::Quit),
+        "quit (asks first when a molecule moved since it was saved)",
+    ),
 ];
+
+/// The mouse, for the help.
+pub const MOUSE: &[(&str, &str)] = &[
+    ("Drag", "turn the view"),
+    ("Shift+drag, middle drag", "pan the view"),
+    ("Wheel", "zoom towards the pointer"),
+    (
+        "Ctrl+drag",
+        "move the selected molecule (through collisions)",
+    ),
+    ("Ctrl+Shift+drag", "turn the selected molecule"),
+    ("Click", "mark an atom and name it"),
+    ("Ctrl+click, double click", "select the atom's molecule"),
+];
+
+/// Every (key, modifiers) binding with its action and, for a motion key,
+/// its step size.
+pub fn bindings() -> Vec<(KeyCode, Mods, Action, Option<StepSize>)> {
+    let mut out = Vec::new();
+    for e in TABLE {
+        for &(key, mods) in e.keys {
+            match e.action {
+                Action::Step(_) => {
+                    for m in [Mods::NONE, Mods::SHIFT, Mods::ALT] {
+                        out.push((key, m, e.action, m.step_size()));
+                    }
+                }
+                a => out.push((key, mods, a, None)),
+            }
+        }
+    }
+    out
+}
+
+/// The action of `key` pressed with exactly `mods`, and the step size for
+/// a motion key.
+pub fn lookup(key: KeyCode, mods: Mods) -> Option<(Action, Option<StepSize>)> {
+    for e in TABLE {
+        for &(k, m) in e.keys {
+            if k != key {
+                continue;
+            }
+            match e.action {
+                Action::Step(_) if m == Mods::NONE => {
+                    if let Some(size) = mods.step_size() {
+                        return Some((e.action, Some(size)));
+                    }
+                }
+                a if m == mods => return Some((a, None)),
+                _ => {}
+            }
+        }
+    }
+    None
+}
+
+/// A key's name as printed on keyboards.
+pub fn key_name(key: KeyCode) -> String {
+    let s = match key {
+        K::ArrowLeft => "←",
+        K::ArrowRight => "→",
+        K::ArrowUp => "↑",
+        K::ArrowDown => "↓",
+        K::PageUp => "Page Up",
+        K::PageDown => "Page Down",
+        K::Space => "Space",
+        K::Home => "Home",
+        K::Escape => "Escape",
+        K::Comma => ",",
+        K::Period => ".",
+        K::Slash => "/",
+        K::BracketLeft => "[",
+        K::BracketRight => "]",
+        K::Minus => "-",
+        K::Equal => "=",
+        other => {
+            let d = format!("{other:?}");
+            return d
+                .strip_prefix("Key")
+                .or_else(|| d.strip_prefix("Digit"))
+                .unwrap_or(&d)
+                .to_string();
+        }
+    };
+    s.to_string()
+}
+
+/// `Ctrl+Shift+Z`, `?` for Shift+/.
+pub fn chord_name(key: KeyCode, mods: Mods) -> String {
+    if key == K::Slash && mods == Mods::SHIFT {
+        return "?".into();
+    }
+    format!("{}{}", mods.prefix(), key_name(key))
+}
+
+/// The help: (keys, what they do), one row per table entry, then the step
+/// sizes, then the mouse.
+pub fn help_rows() -> Vec<(String, String)> {
+    let mut rows: Vec<(String, String)> = TABLE
+        .iter()
+        .map(|e| {
+            let keys: Vec<String> = e.keys.iter().map(|&(k, m)| chord_name(k, m)).collect();
+            (keys.join(", "), e.help.to_string())
+        })
+        .collect();
+    let z = |s: StepSize| format!("{} Å, {}°", s.angstroms(), s.degrees());
+    let steps = (
+        "Shift / Alt + a motion key".to_string(),
+        format!(
+            "coarse step ({}) / fine step ({}); alone: normal ({}). One press is one step; held, it repeats after {} s, {} steps a second",
+            z(StepSize::Coarse),
+            z(StepSize::Fine),
+            z(StepSize::Normal),
+            REPEAT_DELAY,
+            REPEAT_RATE
+        ),
+    );
+    let at = rows
+        .iter()
+        .position(|(_, h)| h == "twist clockwise")
+        .map_or(0, |k| k + 1);
+    rows.insert(at, steps);
+    rows.extend(MOUSE.iter().map(|(k, h)| (k.to_string(), h.to_string())));
+    rows
+}
+
+/// `docs/keys.md`: the help as a Markdown table.
+pub fn markdown() -> String {
+    let mut s = String::from(
+        "# Keys and mouse\n\n\
+         Generated from the window's key table (`src/app/keymap.rs`); a test\n\
+         checks that this file matches it (`BUMP_BLESS=1 cargo test --lib keymap`\n\
+         rewrites it). The same list is the window's help (F1). Motion keys move\n\
+         the view in view mode and the selected molecule in object mode (Space).\n\n\
+         | keys | action |\n| --- | --- |\n",
+    );
+    for (k, h) in help_rows() {
+        s.push_str(&format!("| {} | {} |\n", escape_md(&k), escape_md(&h)));
+    }
+    s
+}
+
+fn escape_md(s: &str) -> String {
+    s.replace('|', "\\|")
+}
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn thesis_keys() {
-        let none = Mods::default();
-        assert_eq!(
-            action(KeyCode::Space, none),
-            Some(KeyAction::Session(Command::ToggleMode))
-        );
-        assert_eq!(
-            action(KeyCode::KeyJ, none),
-            Some(KeyAction::Session(Command::NextMolecule))
-        );
-        assert_eq!(
-            action(KeyCode::KeyC, none),
-            Some(KeyAction::Session(Command::ToggleCollision))
-        );
-        assert_eq!(
-            action(KeyCode::KeyQ, none),
-            Some(KeyAction::Session(Command::Quit))
-        );
-        assert_eq!(
-            action(KeyCode::KeyL, none),
-            Some(KeyAction::Shell(ShellAction::ToggleLight))
-        );
-    }
-
-    #[test]
-    fn shift_s_is_the_thesis_stereo_key_and_does_not_turn() {
-        let shift = Mods {
-            shift: true,
-            ..Mods::default()
-        };
-        assert!(matches!(
-            action(KeyCode::KeyS, shift),
-            Some(KeyAction::Shell(ShellAction::Cue(CueAction::CycleStereo)))
-        ));
-        assert!(motion_of(KeyCode::KeyS, shift).is_none());
-        assert!(velocity(&[KeyCode::KeyS], shift).is_zero());
-        // Plain S still turns about x.
-        assert!(motion_of(KeyCode::KeyS, Mods::default()).is_some());
-        assert!(action(KeyCode::KeyS, Mods::default()).is_none());
-    }
-
-    #[test]
-    fn cue_and_stereo_keys_are_not_motion_keys() {
-        let none = Mods::default();
-        for k in [
-            KeyCode::KeyK,
-            KeyCode::Digit3,
-            KeyCode::BracketLeft,
-            KeyCode::BracketRight,
-            KeyCode::KeyE,
-            KeyCode::KeyF,
-            KeyCode::KeyI,
-            KeyCode::KeyM,
-            KeyCode::KeyH,
-            KeyCode::KeyT,
-        ] {
-            assert!(action(k, none).is_some(), "{k:?}");
-            assert!(motion_of(k, none).is_none(), "{k:?}");
+    fn no_key_and_modifiers_are_bound_twice() {
+        let all = bindings();
+        for (i, a) in all.iter().enumerate() {
+            for b in &all[i + 1..] {
+                assert!(
+                    !(a.0 == b.0 && a.1 == b.1),
+                    "{} is bound twice: {:?} and {:?}",
+                    chord_name(a.0, a.1),
+                    a.2,
+                    b.2
+                );
+            }
         }
+        // Every binding is found by the lookup as itself.
+        for (k, m, action, size) in all {
+            assert_eq!(lookup(k, m), Some((action, size)), "{}", chord_name(k, m));
+        }
+    }
+
+    #[test]
+    fn shift_s_tilts_coarsely_and_stereo_is_on_3() {
         assert_eq!(
-            action(KeyCode::KeyK, none),
-            Some(KeyAction::Session(Command::ToggleRocking))
+            lookup(K::KeyS, Mods::SHIFT),
+            Some((
+                Action::Step(StepKey::turn(StepAxis::X, true)),
+                Some(StepSize::Coarse)
+            ))
+        );
+        assert_eq!(
+            lookup(K::Digit3, Mods::NONE),
+            Some((W(ShellAction::Cue(CueAction::CycleStereo)), None))
+        );
+        assert_eq!(
+            lookup(K::KeyS, Mods::CTRL),
+            Some((W(ShellAction::SavePose), None))
+        );
+        assert_eq!(
+            lookup(K::KeyD, Mods::ALT).map(|a| a.1),
+            Some(Some(StepSize::Fine))
+        );
+        // Ctrl with a motion key is nothing (Ctrl+Z aside).
+        assert_eq!(lookup(K::ArrowLeft, Mods::CTRL), None);
+        assert_eq!(lookup(K::KeyZ, Mods::CTRL), Some((S(Command::Undo), None)));
+        assert_eq!(
+            lookup(K::KeyV, Mods::SHIFT),
+            Some((S(Command::FitAll), None))
         );
     }
 
     #[test]
-    fn undo_redo_need_ctrl_and_do_not_move() {
-        let ctrl = Mods {
-            ctrl: true,
-            ..Mods::default()
-        };
-        assert_eq!(
-            action(KeyCode::KeyZ, ctrl),
-            Some(KeyAction::Session(Command::Undo))
-        );
-        let ctrl_shift = Mods {
-            shift: true,
-            ..ctrl
-        };
-        assert_eq!(
-            action(KeyCode::KeyZ, ctrl_shift),
-            Some(KeyAction::Session(Command::Redo))
-        );
-        assert_eq!(motion_of(KeyCode::KeyZ, ctrl), None);
-        assert!(motion_of(KeyCode::KeyZ, Mods::default()).is_some());
+    fn the_help_lists_every_binding() {
+        let rows = help_rows();
+        let text: String = rows.iter().map(|(k, h)| format!("{k} {h}\n")).collect();
+        for e in TABLE {
+            for &(k, m) in e.keys {
+                assert!(text.contains(&chord_name(k, m)), "{}", chord_name(k, m));
+            }
+            assert!(text.contains(e.help));
+        }
+        assert!(text.contains("coarse step (1 Å, 11.25°)"), "{text}");
     }
 
     #[test]
-    fn six_degrees_of_freedom_with_fine_and_coarse() {
-        let held = [KeyCode::ArrowRight, KeyCode::PageUp, KeyCode::KeyD];
-        let v = velocity(&held, Mods::default());
-        assert_eq!(
-            v.translate,
-            DVec3::new(TRANSLATE_SPEED, 0.0, TRANSLATE_SPEED)
+    fn docs_keys_md_is_the_table() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/keys.md");
+        let want = markdown();
+        if std::env::var("BUMP_BLESS").is_ok() {
+            std::fs::write(path, &want).expect("write docs/keys.md");
+        }
+        let have = std::fs::read_to_string(path).unwrap_or_default();
+        assert!(
+            have == want,
+            "docs/keys.md differs from the key table: run `BUMP_BLESS=1 cargo test --lib keymap` and commit it"
         );
-        assert!((v.rotate.y - ROTATE_SPEED.to_radians()).abs() < 1e-12);
-        let coarse = velocity(
-            &held,
-            Mods {
-                shift: true,
-                ..Mods::default()
-            },
-        );
-        assert_eq!(coarse.translate, v.translate * 5.0);
-        let fine = velocity(
-            &held,
-            Mods {
-                alt: true,
-                ..Mods::default()
-            },
-        );
-        assert!((fine.translate - v.translate * 0.2).length() < 1e-12);
-        // Opposite keys cancel; every axis has a key both ways.
-        assert!(velocity(&[KeyCode::KeyW, KeyCode::KeyS], Mods::default()).is_zero());
-        let all = [
-            KeyCode::ArrowLeft,
-            KeyCode::ArrowRight,
-            KeyCode::ArrowUp,
-            KeyCode::ArrowDown,
-            KeyCode::PageUp,
-            KeyCode::PageDown,
-            KeyCode::KeyW,
-            KeyCode::KeyS,
-            KeyCode::KeyA,
-            KeyCode::KeyD,
-            KeyCode::KeyZ,
-            KeyCode::KeyX,
-        ];
-        assert!(velocity(&all, Mods::default()).is_zero());
-        let t = tap(KeyCode::ArrowUp, Mods::default()).expect("tap");
-        assert!((t.translate.y - TRANSLATE_SPEED * 0.05).abs() < 1e-12);
     }
 }

@@ -441,9 +441,8 @@ mod shell {
                     },
                     Err(e) => LoadEvent::Failed(e),
                 };
-                if let LoadEvent::Failed(e) = &event {
-                    eprintln!("bump: {e}");
-                }
+                // A failure is said once, by the window's status line
+                // (which also prints it on stderr).
                 if tx.send(event).is_err() {
                     return;
                 }

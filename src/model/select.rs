@@ -22,7 +22,10 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt;
 use std::str::FromStr;
 
-use super::{AtomInfo, LoadError, Molecule, Structure, is_water};
+use glam::DVec3;
+
+use super::{AtomInfo, FileBond, FileChemistry, LoadError, Molecule, Structure, is_water};
+use crate::chem::Bond;
 
 /// Hetero residue names `auto` never picks: ions and small inorganic groups,
 /// crystallisation and buffer additives, and modified amino acids that belong
@@ -411,14 +414,10 @@ pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Mole
     for &i in &chosen.atoms {
         in_drug[i] = true;
     }
-    let (mut rec_atoms, mut rec_pos) = (Vec::new(), Vec::new());
-    for (i, (a, p)) in s.atoms.iter().zip(&s.positions).enumerate() {
-        if !in_drug[i] && !is_water(&a.residue) {
-            rec_atoms.push(a.clone());
-            rec_pos.push(*p);
-        }
-    }
-    if rec_atoms.is_empty() {
+    let receptor_atoms: Vec<usize> = (0..s.atoms.len())
+        .filter(|&i| !in_drug[i] && !is_water(&s.atoms[i].residue))
+        .collect();
+    if receptor_atoms.is_empty() {
         return Err(LoadError::Ligand {
             path: s.name.clone(),
             reason: format!(
@@ -427,15 +426,59 @@ pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Mole
             ),
         });
     }
-    let drug_atoms = chosen.atoms.iter().map(|&i| s.atoms[i].clone()).collect();
-    let drug_pos: Vec<_> = chosen.atoms.iter().map(|&i| s.positions[i]).collect();
-    let receptor = Molecule::new(format!("{} receptor", s.name), rec_atoms, &rec_pos);
-    let drug = Molecule::new(
-        format!("{} {}", s.name, chosen.label()),
-        drug_atoms,
-        &drug_pos,
-    );
+    let receptor = molecule_from(s, &receptor_atoms, format!("{} receptor", s.name));
+    let drug = molecule_from(s, &chosen.atoms, format!("{} {}", s.name, chosen.label()));
     Ok((receptor, drug))
+}
+
+/// The molecule made of `s`'s atoms `indices` (ascending), with the file's
+/// hydrogens bonded to them, the bonds among them and their formal charges.
+pub fn molecule_from(s: &Structure, indices: &[usize], name: String) -> Molecule {
+    let atoms: Vec<AtomInfo> = indices.iter().map(|&i| s.atoms[i].clone()).collect();
+    let positions: Vec<DVec3> = indices.iter().map(|&i| s.positions[i]).collect();
+    let mut mol = Molecule::new(name, atoms, &positions);
+    attach_file_chemistry(&mut mol, &s.bonds, &s.file_chem, s.atoms.len(), indices);
+    mol
+}
+
+/// Gives `mol`, made of the atoms `indices` (ascending) of a structure of
+/// `total` atoms, the structure's `bonds` among them, their formal charges
+/// and the hydrogens bonded to them.
+fn attach_file_chemistry(
+    mol: &mut Molecule,
+    bonds: &[FileBond],
+    fc: &FileChemistry,
+    total: usize,
+    indices: &[usize],
+) {
+    let mut new_index = vec![u32::MAX; total];
+    for (k, &i) in indices.iter().enumerate() {
+        new_index[i] = u32::try_from(k).unwrap_or(u32::MAX);
+    }
+    mol.file_bonds = bonds
+        .iter()
+        .filter(|b| new_index[b.a] != u32::MAX && new_index[b.b] != u32::MAX)
+        .map(|b| Bond::new(new_index[b.a], new_index[b.b], b.order))
+        .collect();
+    if fc.formal_charges.len() == total && indices.iter().any(|&i| fc.formal_charges[i] != 0) {
+        mol.formal_charges = indices.iter().map(|&i| fc.formal_charges[i]).collect();
+    }
+    mol.bonds_complete = fc.bonds_complete && indices.len() == total;
+    mol.from_sdf = fc.from_sdf;
+    for h in &fc.hydrogens {
+        let Some(p) = h.parent.filter(|&p| new_index[p] != u32::MAX) else {
+            continue;
+        };
+        // Written before the first kept atom at or after its place.
+        let before = indices.partition_point(|&i| i < h.before);
+        mol.hydrogens.push(
+            new_index[p],
+            (h.position - mol.centre).as_vec3(),
+            h.atom.serial,
+            u32::try_from(before).unwrap_or(u32::MAX),
+            &h.atom.name,
+        );
+    }
 }
 
 /// The whole structure as a receptor: every atom except waters, named
@@ -445,14 +488,10 @@ pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Mole
 /// [`LoadError::OnlyWaters`] when only waters remain, [`LoadError::NoAtoms`]
 /// when nothing does.
 pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
-    let (atoms, positions): (Vec<_>, Vec<_>) = s
-        .atoms
-        .iter()
-        .zip(&s.positions)
-        .filter(|(a, _)| !is_water(&a.residue))
-        .map(|(a, p)| (a.clone(), *p))
-        .unzip();
-    if atoms.is_empty() {
+    let indices: Vec<usize> = (0..s.atoms.len())
+        .filter(|&i| !is_water(&s.atoms[i].residue))
+        .collect();
+    if indices.is_empty() {
         return Err(if s.atoms.is_empty() {
             LoadError::NoAtoms {
                 path: s.name.clone(),
@@ -465,11 +504,7 @@ pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
             }
         });
     }
-    Ok(Molecule::new(
-        format!("{} receptor", s.name),
-        atoms,
-        &positions,
-    ))
+    Ok(molecule_from(s, &indices, format!("{} receptor", s.name)))
 }
 
 /// [`split_complex`] taking the structure: its atoms move into the two
@@ -491,20 +526,39 @@ pub fn split_complex_owned(
     for &i in &chosen {
         in_drug[i] = true;
     }
-    let drug_atoms: Vec<AtomInfo> = chosen.iter().map(|&i| s.atoms[i].clone()).collect();
-    let drug_pos: Vec<_> = chosen.iter().map(|&i| s.positions[i]).collect();
-    let Structure {
-        name,
-        mut atoms,
-        mut positions,
-        ..
-    } = s;
-    let keep: Vec<bool> = atoms
-        .iter()
-        .zip(&in_drug)
-        .map(|(a, d)| !d && !is_water(&a.residue))
+    let receptor_indices: Vec<usize> = (0..s.atoms.len())
+        .filter(|&i| !in_drug[i] && !is_water(&s.atoms[i].residue))
         .collect();
     drop(in_drug);
+    if receptor_indices.is_empty() {
+        return Err(LoadError::Ligand {
+            path: s.name,
+            reason: format!(
+                "nothing is left for the receptor after taking {label} as the drug and removing waters"
+            ),
+        });
+    }
+    let drug = molecule_from(&s, &chosen, format!("{} {label}", s.name));
+    let receptor = molecule_moved(s, &receptor_indices, |name| format!("{name} receptor"));
+    Ok((receptor, drug))
+}
+
+/// [`molecule_from`] taking the structure: the atoms `indices` (ascending)
+/// move into the molecule in place rather than being copied.
+fn molecule_moved(s: Structure, indices: &[usize], name: impl Fn(&str) -> String) -> Molecule {
+    let Structure {
+        name: file,
+        mut atoms,
+        mut positions,
+        bonds,
+        file_chem,
+        ..
+    } = s;
+    let total = atoms.len();
+    let mut keep = vec![false; total];
+    for &i in indices {
+        keep[i] = true;
+    }
     let mut k = 0;
     atoms.retain(|_| {
         k += 1;
@@ -515,18 +569,11 @@ pub fn split_complex_owned(
         k += 1;
         keep[k - 1]
     });
-    if atoms.is_empty() {
-        return Err(LoadError::Ligand {
-            path: name,
-            reason: format!(
-                "nothing is left for the receptor after taking {label} as the drug and removing waters"
-            ),
-        });
-    }
-    let receptor = Molecule::new(format!("{name} receptor"), atoms, &positions);
+    drop(keep);
+    let mut mol = Molecule::new(name(&file), atoms, &positions);
     drop(positions);
-    let drug = Molecule::new(format!("{name} {label}"), drug_atoms, &drug_pos);
-    Ok((receptor, drug))
+    attach_file_chemistry(&mut mol, &bonds, &file_chem, total, indices);
+    mol
 }
 
 /// [`receptor_only`] taking the structure: its atoms move into the
@@ -535,38 +582,25 @@ pub fn split_complex_owned(
 /// # Errors
 /// As [`receptor_only`].
 pub fn receptor_only_owned(s: Structure) -> Result<Molecule, LoadError> {
-    let Structure {
-        name,
-        mut atoms,
-        mut positions,
-        ..
-    } = s;
-    let total = atoms.len();
-    let keep: Vec<bool> = atoms.iter().map(|a| !is_water(&a.residue)).collect();
-    let mut k = 0;
-    atoms.retain(|_| {
-        k += 1;
-        keep[k - 1]
-    });
-    let mut k = 0;
-    positions.retain(|_| {
-        k += 1;
-        keep[k - 1]
-    });
-    if atoms.is_empty() {
-        return Err(if total == 0 {
+    let indices: Vec<usize> = (0..s.atoms.len())
+        .filter(|&i| !is_water(&s.atoms[i].residue))
+        .collect();
+    if indices.is_empty() {
+        return Err(if s.atoms.is_empty() {
             LoadError::NoAtoms {
-                path: name,
+                path: s.name,
                 dropped_hydrogens: 0,
             }
         } else {
             LoadError::OnlyWaters {
-                path: name,
-                waters: total,
+                waters: s.atoms.len(),
+                path: s.name,
             }
         });
     }
-    Ok(Molecule::new(format!("{name} receptor"), atoms, &positions))
+    Ok(molecule_moved(s, &indices, |name| {
+        format!("{name} receptor")
+    }))
 }
 
 #[cfg(test)]
@@ -867,6 +901,7 @@ mod tests {
             positions: vec![glam::DVec3::ZERO; 58],
             hydrogen_only: Vec::new(),
             bonds: Vec::new(),
+            file_chem: Default::default(),
         };
         let err = receptor_only(&waters).unwrap_err();
         assert!(matches!(err, LoadError::OnlyWaters { waters: 58, .. }));

@@ -5,6 +5,7 @@
 
 use glam::DVec3;
 
+use super::keys::KeyEvent;
 use crate::collide::Response;
 
 /// A rigid motion request: translation in Å and rotation as axis × angle (rad),
@@ -77,6 +78,17 @@ pub enum Command {
     ResetMolecule,
     /// Put the camera back where it started.
     ResetView,
+    /// Turn the view so that the drug (the selected molecule) is in front
+    /// of the other molecules, centred, with every molecule in view, and
+    /// make that the home view (the window asks for it when files arrive;
+    /// the camera moves only while it is at home, i.e. the user has not
+    /// moved the view).
+    ViewDrug,
+    /// Centre the view on the drug (the selected molecule), keeping the
+    /// camera's turn, close enough to fill the view with it.
+    CentreOnDrug,
+    /// Frame every molecule where it is now, keeping the camera's turn.
+    FitAll,
     /// Move the selected molecule by an exact amount (Å and a turn about its
     /// centre, axis in world coordinates), through the collision response.
     MoveBy {
@@ -106,6 +118,9 @@ impl Command {
                 | Command::Redo
                 | Command::ResetMolecule
                 | Command::ResetView
+                | Command::ViewDrug
+                | Command::CentreOnDrug
+                | Command::FitAll
                 | Command::MoveBy { .. }
         )
     }
@@ -138,6 +153,10 @@ pub struct FrameInput {
     pub zoom: f64,
     /// Discrete commands, applied in order before the motion.
     pub commands: Vec<Command>,
+    /// Motion keys pressed and released in this frame, with their times:
+    /// each press is one step, a held key repeats (see [`super::keys`]).
+    /// The steps move what the mode says, as `nudge` does.
+    pub keys: Vec<KeyEvent>,
 }
 
 impl FrameInput {
@@ -167,7 +186,7 @@ impl FrameInput {
 
     /// True when the frame asks for nothing at all.
     pub fn is_empty(&self) -> bool {
-        !self.has_motion() && self.commands.is_empty()
+        !self.has_motion() && self.commands.is_empty() && self.keys.is_empty()
     }
 
     /// True when the frame asks to move something (the view, a molecule, the

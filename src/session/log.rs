@@ -8,10 +8,10 @@
 //! without a window. Floats are written in Rust's shortest round-trip form,
 //! so they read back exactly.
 //!
-//! # Format, version 1
+//! # Format, version 2
 //!
 //! ```text
-//! bump-log 1
+//! bump-log 2
 //! # any comment line
 //! meta KEY VALUE...                      scene description (files, options)
 //! f DT [FIELD=VALUE]... ~CHECK           one frame
@@ -22,7 +22,11 @@
 //! Frame fields, each present only when non-zero: `v` (velocity, 6 numbers:
 //! translation x,y,z in Å then rotation vector in rad, per second), `n`
 //! (nudge), `wv`/`wn` (view velocity/nudge), `ov`/`on` (object
-//! velocity/nudge), `z` (zoom steps), and `c` (a command; repeated, in order).
+//! velocity/nudge), `z` (zoom steps), `c` (a command; repeated, in order)
+//! and `k` (a motion key pressed or released, repeated, in order:
+//! `k=down:KEY:SIZE:AT` or `k=up:KEY:SIZE:AT`, KEY as `tx+` … `rz-`, SIZE
+//! `fine`, `normal` or `coarse`, AT the seconds into the frame; see
+//! [`super::keys`]). Version 2 added `k`; version 1 logs read as they are.
 //! `~CHECK` is the FNV-1a hash (32-bit, hex) of the line before ` ~`, so a
 //! damaged line is named. A log without its `end` line, or whose count
 //! disagrees, was cut short and is refused.
@@ -43,7 +47,7 @@ use std::path::{Path, PathBuf};
 use glam::{DQuat, DVec3};
 use thiserror::Error;
 
-use super::{Command, FrameInput, Motion6};
+use super::{Command, FrameInput, KeyEvent, Motion6, StepKey, StepSize};
 use crate::collide::Response;
 use crate::motion::Pose;
 use crate::motion::range::{check_displacement, check_position, check_seconds};
@@ -54,8 +58,11 @@ use crate::text::{excerpt, format_bytes, quoted, split_lines};
 /// so the limit also bounds the memory a log can take.
 pub const MAX_LOG_BYTES: u64 = 256 << 20;
 
-/// The format version this build writes and reads.
-pub const VERSION: u32 = 1;
+/// The format version this build writes (it reads this and every earlier one).
+pub const VERSION: u32 = 2;
+
+/// The oldest format version this build reads.
+pub const OLDEST_VERSION: u32 = 1;
 
 /// A log that cannot be read or written.
 #[derive(Debug, Error)]
@@ -201,12 +208,12 @@ impl SessionLog {
         let mut log = SessionLog::default();
         let mut lines = lines.enumerate().map(|(k, l)| l.map(|l| (k + 1, l)));
         match lines.next().transpose()? {
-            Some((_, l)) if l.trim_end() == format!("bump-log {VERSION}") => {}
+            Some((_, l)) if is_header(l) => {}
             Some((n, l)) if l.starts_with("bump-log ") => {
                 return Err(err(
                     n,
                     format!(
-                        "log version {} is not supported (this build reads {VERSION})",
+                        "log version {} is not supported (this build reads {OLDEST_VERSION} to {VERSION})",
                         quoted(&l[9..])
                     ),
                 ));
@@ -271,6 +278,14 @@ impl SessionLog {
             line: last,
         })
     }
+}
+
+/// True for a header line of a version this build reads.
+fn is_header(line: &str) -> bool {
+    line.trim_end()
+        .strip_prefix("bump-log ")
+        .and_then(|v| v.parse::<u32>().ok())
+        .is_some_and(|v| (OLDEST_VERSION..=VERSION).contains(&v))
 }
 
 /// FNV-1a, 32-bit: a cheap check that names a damaged line.
@@ -353,6 +368,7 @@ fn parse_frame(body: &str) -> Result<LogFrame, String> {
             "on" => input.object_nudge = motion(v)?,
             "z" => input.zoom = num(v)?,
             "c" => input.commands.push(parse_command(v)?),
+            "k" => input.keys.push(parse_key(v)?),
             _ => return Err(format!("unknown frame field {}", quoted(k))),
         }
     }
@@ -383,6 +399,49 @@ fn parse_final(body: &str, expected: usize) -> Result<Pose, String> {
     Ok(Pose::new(q, t))
 }
 
+/// The token a motion key's event is written as: `down:tx+:coarse:0.012`.
+pub fn key_token(e: &KeyEvent) -> String {
+    let what = if e.pressed { "down" } else { "up" };
+    format!("{what}:{}:{}:{:?}", e.key.token(), e.size.name(), e.at)
+}
+
+/// Reads a motion key's event token.
+///
+/// # Errors
+/// A message naming the token.
+pub fn parse_key(tok: &str) -> Result<KeyEvent, String> {
+    let bad = || {
+        format!(
+            "{} is not a key event (down|up:KEY:SIZE:SECONDS)",
+            quoted(tok)
+        )
+    };
+    let mut parts = tok.split(':');
+    let (Some(what), Some(key), Some(size), Some(at), None) = (
+        parts.next(),
+        parts.next(),
+        parts.next(),
+        parts.next(),
+        parts.next(),
+    ) else {
+        return Err(bad());
+    };
+    let pressed = match what {
+        "down" => true,
+        "up" => false,
+        _ => return Err(bad()),
+    };
+    let key = StepKey::parse(key).ok_or_else(bad)?;
+    let size = StepSize::parse(size).ok_or_else(bad)?;
+    let at = check_seconds(num(at)?).map_err(|e| format!("{}: key time {e}", quoted(tok)))?;
+    Ok(KeyEvent {
+        key,
+        size,
+        pressed,
+        at,
+    })
+}
+
 /// The token a command is written as.
 pub fn command_token(c: &Command) -> String {
     match c {
@@ -397,6 +456,9 @@ pub fn command_token(c: &Command) -> String {
         Command::Redo => "redo".into(),
         Command::ResetMolecule => "reset-molecule".into(),
         Command::ResetView => "reset-view".into(),
+        Command::ViewDrug => "view-drug".into(),
+        Command::CentreOnDrug => "centre-drug".into(),
+        Command::FitAll => "fit-all".into(),
         Command::MoveBy {
             translate: t,
             axis: a,
@@ -442,6 +504,9 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
         "redo" => no_arg(Command::Redo),
         "reset-molecule" => no_arg(Command::ResetMolecule),
         "reset-view" => no_arg(Command::ResetView),
+        "view-drug" => no_arg(Command::ViewDrug),
+        "centre-drug" => no_arg(Command::CentreOnDrug),
+        "fit-all" => no_arg(Command::FitAll),
         "move" => {
             let [tx, ty, tz, ax, ay, az, degrees] = nums::<7>(arg)?;
             let translate =
@@ -485,6 +550,9 @@ pub fn frame_line(dt: f64, input: &FrameInput) -> String {
     }
     for c in &input.commands {
         let _ = write!(line, " c={}", command_token(c));
+    }
+    for k in &input.keys {
+        let _ = write!(line, " k={}", key_token(k));
     }
     with_check(line)
 }
@@ -655,6 +723,9 @@ mod tests {
                             Command::Redo,
                             Command::ResetMolecule,
                             Command::ResetView,
+                            Command::ViewDrug,
+                            Command::CentreOnDrug,
+                            Command::FitAll,
                             Command::ToggleRocking,
                             Command::RockMore,
                             Command::RockLess,
@@ -664,6 +735,17 @@ mod tests {
                                 degrees: 0.1,
                             },
                             Command::Quit,
+                        ],
+                        keys: vec![
+                            KeyEvent::press(
+                                StepKey::turn(crate::session::StepAxis::Y, false),
+                                StepSize::Coarse,
+                                0.0123,
+                            ),
+                            KeyEvent::release(
+                                StepKey::translate(crate::session::StepAxis::Z, true),
+                                1.0 / 3.0,
+                            ),
                         ],
                     },
                 },
@@ -742,8 +824,12 @@ mod tests {
             "f 0.1 c=fly",
             "f NaN",
             "f 0.1 z=inf",
+            "f 0.1 k=down:tq+:normal:0",
+            "f 0.1 k=down:tx+:huge:0",
+            "f 0.1 k=down:tx+:normal:-1",
+            "f 0.1 k=down:tx+:normal",
         ] {
-            let text = format!("bump-log 1\n{}\nend 1\n", with_check(bad.to_string()));
+            let text = format!("bump-log 2\n{}\nend 1\n", with_check(bad.to_string()));
             let e = SessionLog::parse(&text, p).unwrap_err().to_string();
             assert!(e.starts_with("x.log:2: "), "{bad}: {e}");
         }
@@ -751,6 +837,16 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("x.log:2") && e.contains("bogus"), "{e}");
+    }
+
+    #[test]
+    fn version_1_logs_still_read() {
+        let frame = with_check("f 0.5 n=1,0,0,0,0,0 c=mode".to_string());
+        let text = format!("bump-log 1\n{frame}\nend 1\n");
+        let log = SessionLog::parse(&text, Path::new("old.log")).unwrap();
+        assert_eq!(log.frames[0].input.commands, [Command::ToggleMode]);
+        assert!(log.frames[0].input.keys.is_empty());
+        assert!(to_text(&log).starts_with("bump-log 2\n"));
     }
 
     #[test]

@@ -25,8 +25,12 @@
 //! rebuilt when the selection changes or one of them moves.
 
 pub mod camera;
+mod collisions;
+pub mod framing;
 pub mod history;
 pub mod input;
+pub mod keys;
+pub mod labels;
 pub mod log;
 pub mod replay;
 pub mod timing;
@@ -40,12 +44,16 @@ use thiserror::Error;
 pub use camera::Camera;
 pub use history::History;
 pub use input::{Command, FrameInput, Motion6};
+pub use keys::{KeyEvent, KeySteps, Step, StepAxis, StepKey, StepSize};
+pub use labels::Role;
+
+use collisions::Environment;
 pub use log::{LogError, LogFrame, LogWriter, SessionLog};
 pub use replay::{Replayed, replay};
 pub use timing::{Summary, Timing};
 
 use crate::collide::{
-    Collider, ColliderKind, ContactRule, DrugAtoms, Method, Response, TouchOptions, respond,
+    Collider, ColliderKind, ContactRule, DrugAtoms, Method, Response, TouchOptions,
 };
 use crate::model::Molecule;
 use crate::motion::{Pose, Rock};
@@ -185,52 +193,6 @@ fn dt_clamped(dt: f64) -> f64 {
     }
 }
 
-/// The environment of the selected molecule: all others.
-#[derive(Debug, Clone)]
-struct Environment {
-    selected: usize,
-    /// Pose of the collider's frame in the world: the molecule's pose for
-    /// one molecule, the merged atoms' centre (no rotation) for several.
-    frame: Pose,
-    collider: Arc<Collider>,
-    drug: Arc<DrugAtoms>,
-    owners: Owners,
-}
-
-/// Which molecule's atom each environment atom is.
-#[derive(Debug, Clone)]
-enum Owners {
-    /// One molecule: atom `i` is its atom `i`.
-    One(usize),
-    /// Several, merged: (molecule, atom) of each.
-    Merged(Vec<(usize, usize)>),
-}
-
-impl Owners {
-    fn of(&self, i: usize) -> (usize, usize) {
-        match self {
-            Self::One(k) => (*k, i),
-            Self::Merged(v) => v[i],
-        }
-    }
-}
-
-impl Environment {
-    /// Pairs between the moving molecule `b` and the environment, as contacts
-    /// between molecules.
-    fn contacts(&self, b: usize, pairs: &[crate::collide::Pair]) -> Vec<Contact> {
-        pairs
-            .iter()
-            .map(|p| Contact {
-                moving: (b, p.drug as usize),
-                other: self.owners.of(p.receptor as usize),
-                distance: p.distance,
-                contact: p.contact,
-            })
-            .collect()
-    }
-}
-
 /// The docking session.
 #[derive(Debug, Clone)]
 pub struct Session {
@@ -252,6 +214,12 @@ pub struct Session {
     highlighted: Vec<Vec<bool>>,
     contacts: Vec<Contact>,
     rock: Rock,
+    /// The motion keys held and their clock.
+    keys: KeySteps,
+    /// Per molecule: what it is (read once, when it arrives).
+    roles: Vec<Role>,
+    /// Per molecule: its pose when it was loaded or last saved.
+    saved: Vec<Pose>,
 }
 
 impl Session {
@@ -287,20 +255,7 @@ impl Session {
                 }
             })
             .collect();
-        let n: f64 = bodies.iter().map(|b| b.molecule.len() as f64).sum();
-        let centre = if n > 0.0 {
-            bodies
-                .iter()
-                .map(|b| b.pose.translation * b.molecule.len() as f64)
-                .sum::<DVec3>()
-                / n
-        } else {
-            DVec3::ZERO
-        };
-        let radius = bodies
-            .iter()
-            .map(|b| (b.pose.translation - centre).length() + b.molecule.bounding_radius())
-            .fold(1.0, f64::max);
+        let (centre, radius) = framing::bounds(&bodies).unwrap_or((DVec3::ZERO, 1.0));
         let camera = Camera::framing(centre, radius);
         let highlighted = bodies
             .iter()
@@ -309,6 +264,8 @@ impl Session {
         let selected = bodies.len().saturating_sub(1);
         let own_colliders = vec![None; bodies.len()];
         let moving_atoms = vec![None; bodies.len()];
+        let roles = bodies.iter().map(|b| Role::of(&b.molecule)).collect();
+        let saved = bodies.iter().map(|b| b.pose).collect();
         Self {
             bodies,
             selected,
@@ -323,27 +280,71 @@ impl Session {
             highlighted,
             contacts: Vec::new(),
             rock: Rock::default(),
+            keys: KeySteps::default(),
+            roles,
+            saved,
         }
     }
 
-    /// Points the camera at all molecules (after files arrive, say).
+    /// Points the camera at all molecules where they are now, keeping its
+    /// turn, and makes that the home view ([`Command::ResetView`]).
     pub fn frame_all(&mut self) {
-        // Frame the molecules where they are now, not where they were loaded.
-        let n: f64 = self.bodies.iter().map(|b| b.molecule.len() as f64).sum();
-        if n > 0.0 {
-            let centre = self
-                .bodies
-                .iter()
-                .map(|b| b.pose.translation * b.molecule.len() as f64)
-                .sum::<DVec3>()
-                / n;
-            let radius = self
-                .bodies
-                .iter()
-                .map(|b| (b.pose.translation - centre).length() + b.molecule.bounding_radius())
-                .fold(1.0, f64::max);
-            self.camera = Camera::framing(centre, radius);
-            self.home = self.camera;
+        if let Some(c) = framing::fit_all(&self.bodies, self.camera.rotation) {
+            self.camera = c;
+            self.home = c;
+        }
+    }
+
+    /// What molecule `b` is: a receptor (more than one residue), or a drug
+    /// (one residue), except that in a scene of small molecules only, the
+    /// largest is the receptor (the built-in scene's rings).
+    pub fn role(&self, b: usize) -> Option<Role> {
+        let own = *self.roles.get(b)?;
+        let polymer = self.roles.contains(&Role::Receptor);
+        if own == Role::Drug && !polymer && self.bodies.len() > 1 {
+            let largest = (0..self.bodies.len())
+                .max_by_key(|&k| (self.bodies[k].molecule.len(), std::cmp::Reverse(k)));
+            if largest == Some(b) {
+                return Some(Role::Receptor);
+            }
+        }
+        Some(own)
+    }
+
+    /// Molecule `b` in a chemist's words, in its role in this scene:
+    /// `drug: TOP X 201 (trimethoprim.sdf)`.
+    pub fn describe(&self, b: usize) -> Option<String> {
+        let role = self.role(b)?;
+        Some(labels::describe(&self.bodies[b].molecule, role))
+    }
+
+    /// The drug the view centres on: the selected molecule when it is a
+    /// drug, else the last drug loaded, else the selected molecule; `None`
+    /// with no molecule.
+    pub fn drug(&self) -> Option<usize> {
+        if self.bodies.is_empty() {
+            return None;
+        }
+        if self.role(self.selected) == Some(Role::Drug) {
+            return Some(self.selected);
+        }
+        let last = (0..self.bodies.len())
+            .rev()
+            .find(|&k| self.roles[k] == Role::Drug);
+        Some(last.unwrap_or(self.selected))
+    }
+
+    /// The molecules moved since they were loaded or last saved.
+    pub fn unsaved(&self) -> Vec<usize> {
+        (0..self.bodies.len())
+            .filter(|&k| self.saved.get(k) != Some(&self.bodies[k].pose))
+            .collect()
+    }
+
+    /// Notes that molecule `b` was saved where it stands now.
+    pub fn mark_saved(&mut self, b: usize) {
+        if let (Some(s), Some(body)) = (self.saved.get_mut(b), self.bodies.get(b)) {
+            *s = body.pose;
         }
     }
 
@@ -352,6 +353,7 @@ impl Session {
     pub fn add_molecule(&mut self, molecule: Molecule) {
         let pose = Pose::from_translation(molecule.centre);
         self.highlighted.push(vec![false; molecule.len()]);
+        self.roles.push(Role::of(&molecule));
         self.bodies.push(Body {
             molecule,
             pose,
@@ -359,6 +361,7 @@ impl Session {
         });
         self.own_colliders.push(None);
         self.moving_atoms.push(None);
+        self.saved.push(pose);
         self.selected = self.bodies.len() - 1;
         self.env = None;
         self.history.close();
@@ -407,6 +410,11 @@ impl Session {
         c
     }
 
+    /// The motion keys held (the window keeps stepping while one is).
+    pub fn keys(&self) -> &KeySteps {
+        &self.keys
+    }
+
     /// The rocking state.
     pub fn rock(&self) -> &Rock {
         &self.rock
@@ -444,13 +452,20 @@ impl Session {
     }
 
     /// Advances one frame of `dt` seconds.
+    ///
+    /// In order: rocking, the commands, the motion keys' steps (each one
+    /// step through the collision response, see [`keys`]), then the
+    /// continuous motions and one-off nudges.
     pub fn step(&mut self, input: &FrameInput, dt: f64) -> FrameOutcome {
         let mut out = FrameOutcome {
             t: 1.0,
             ..FrameOutcome::default()
         };
         // Rocking pauses while the user moves anything, keeping the view.
-        let user_moves = input.has_motion() || input.commands.iter().any(Command::moves_something);
+        let user_moves = input.has_motion()
+            || !input.keys.is_empty()
+            || self.keys.any_held()
+            || input.commands.iter().any(Command::moves_something);
         if user_moves && self.rock.is_on() {
             self.pause_rocking();
         }
@@ -458,30 +473,16 @@ impl Session {
         for c in &input.commands {
             self.command(*c, &mut out);
         }
-        if self.bodies.is_empty() {
-            // Nothing to move but the view.
-            let dt = dt_clamped(dt);
-            let m = input
-                .velocity
-                .scaled(dt)
-                .plus(&input.nudge)
-                .plus(&input.view_velocity.scaled(dt))
-                .plus(&input.view_nudge);
-            if m.is_finite() && !m.is_zero() {
-                self.camera.move_scene(m.translate, m.rotate);
-                out.changed = true;
-            }
-            if input.zoom.is_finite() && input.zoom != 0.0 {
-                self.camera.zoom(input.zoom);
-                out.changed = true;
-            }
-            return out;
+        for s in self.keys.advance(&input.keys, dt) {
+            self.key_step(&s, &mut out);
         }
         let dt = dt_clamped(dt);
         let motion = input.velocity.scaled(dt).plus(&input.nudge);
-        let (mut view, mut object) = match self.mode {
-            Mode::View => (motion, Motion6::ZERO),
-            Mode::Object => (Motion6::ZERO, motion),
+        let object_mode = self.mode == Mode::Object && !self.bodies.is_empty();
+        let (mut view, mut object) = if object_mode {
+            (Motion6::ZERO, motion)
+        } else {
+            (motion, Motion6::ZERO)
         };
         view = view
             .plus(&input.view_velocity.scaled(dt))
@@ -489,27 +490,54 @@ impl Session {
         object = object
             .plus(&input.object_velocity.scaled(dt))
             .plus(&input.object_nudge);
-        if !view.is_finite() || !input.zoom.is_finite() {
-            out.messages.push("ignored a non-finite view motion".into());
-        } else {
-            if !view.is_zero() {
-                self.camera.move_scene(view.translate, view.rotate);
-                out.changed = true;
-            }
-            if input.zoom != 0.0 {
-                self.camera.zoom(input.zoom);
-                out.changed = true;
-            }
-        }
-        if !object.is_finite() {
+        self.move_view(&view, input.zoom, &mut out);
+        if self.bodies.is_empty() {
+            // Nothing to move but the view.
+        } else if !object.is_finite() {
             out.messages.push("ignored a non-finite motion".into());
         } else if object.is_zero() {
-            self.history.close();
+            // A held key's repeats are one gesture: undo takes them back
+            // together.
+            if !self.keys.any_held() {
+                self.history.close();
+            }
         } else {
             let (translate, axis, angle) = self.to_world(&object);
             self.move_selected(translate, axis, angle, &mut out);
         }
         out
+    }
+
+    /// One motion key's step: the view, or the selected molecule in object
+    /// mode (through the collision response); a press starts a new undo
+    /// entry.
+    fn key_step(&mut self, s: &Step, out: &mut FrameOutcome) {
+        let m = s.motion();
+        if self.mode == Mode::Object && !self.bodies.is_empty() {
+            if s.first {
+                self.history.close();
+            }
+            let (translate, axis, angle) = self.to_world(&m);
+            self.move_selected(translate, axis, angle, out);
+        } else {
+            self.move_view(&m, 0.0, out);
+        }
+    }
+
+    /// Moves the camera by `view` (screen axes) and zooms by `zoom` steps.
+    fn move_view(&mut self, view: &Motion6, zoom: f64, out: &mut FrameOutcome) {
+        if !view.is_finite() || !zoom.is_finite() {
+            out.messages.push("ignored a non-finite view motion".into());
+            return;
+        }
+        if !view.is_zero() {
+            self.camera.move_scene(view.translate, view.rotate);
+            out.changed = true;
+        }
+        if zoom != 0.0 {
+            self.camera.zoom(zoom);
+            out.changed = true;
+        }
     }
 
     fn command(&mut self, c: Command, out: &mut FrameOutcome) {
@@ -588,6 +616,20 @@ impl Session {
                 self.place(b, to, out);
             }
             Command::ResetView => self.camera = self.home,
+            Command::ViewDrug => self.view_drug(),
+            Command::CentreOnDrug => {
+                if let Some(c) = self
+                    .drug()
+                    .and_then(|d| framing::centre_on(&self.bodies, d, self.camera.rotation))
+                {
+                    self.camera = c;
+                }
+            }
+            Command::FitAll => {
+                if let Some(c) = framing::fit_all(&self.bodies, self.camera.rotation) {
+                    self.camera = c;
+                }
+            }
             Command::MoveBy {
                 translate,
                 axis,
@@ -629,6 +671,21 @@ impl Session {
         }
     }
 
+    /// [`Command::ViewDrug`]: a new home view that shows the drug; the
+    /// camera goes there only while it is at home.
+    fn view_drug(&mut self) {
+        let view = match self.drug() {
+            Some(d) if self.bodies.len() > 1 => framing::drug_view(&self.bodies, d),
+            _ => framing::fit_all(&self.bodies, self.camera.rotation),
+        };
+        if let Some(v) = view {
+            if self.camera == self.home {
+                self.camera = v;
+            }
+            self.home = v;
+        }
+    }
+
     fn select(&mut self, n: usize, out: &mut FrameOutcome) {
         // The environment holds the other molecules' poses, which change only
         // while one of them is selected: re-selecting the selected molecule
@@ -657,226 +714,6 @@ impl Session {
         (translate, axis, angle)
     }
 
-    /// With collision on, builds the selected molecule's environment now
-    /// (if it is not built) and waits until its collider's clearance map is
-    /// there, so the frames that follow run as every frame will from then
-    /// on: for benchmarks. Frames never wait for the map (see
-    /// [`Collider::wait_for_clearance`]).
-    pub fn wait_for_collider(&mut self) {
-        if self.settings.collision
-            && let Some(env) = self.environment()
-        {
-            env.collider.wait_for_clearance();
-        }
-    }
-
-    /// Builds (or reuses) the environment of the selected molecule.
-    fn environment(&mut self) -> Option<&Environment> {
-        let stale = self
-            .env
-            .as_ref()
-            .is_none_or(|e| e.selected != self.selected);
-        if stale {
-            self.env = self.build_environment();
-        }
-        self.env.as_ref()
-    }
-
-    fn build_environment(&mut self) -> Option<Environment> {
-        let selected = self.selected;
-        let mut others = (0..self.bodies.len())
-            .filter(|&k| k != selected && !self.bodies[k].molecule.is_empty());
-        let (first, second) = (others.next(), others.next());
-        let (frame, collider, owners) = match (first, second) {
-            (None, _) => return None,
-            (Some(k), None) => (self.bodies[k].pose, self.own_collider(k), Owners::One(k)),
-            (Some(_), Some(_)) => {
-                let (frame, collider, owners) = self.merged_environment();
-                (frame, Arc::new(collider), Owners::Merged(owners))
-            }
-        };
-        let drug = self.moving_atoms(selected, collider.max_radius());
-        Some(Environment {
-            selected,
-            frame,
-            collider,
-            drug,
-            owners,
-        })
-    }
-
-    /// Molecule `k`'s collider in its own frame, built on first use.
-    fn own_collider(&mut self, k: usize) -> Arc<Collider> {
-        if let Some(Some(c)) = self.own_colliders.get(k) {
-            return Arc::clone(c);
-        }
-        let c = Arc::new(Collider::build(
-            &self.bodies[k].molecule,
-            &self.settings.rule,
-            self.settings.collider,
-        ));
-        if let Some(slot) = self.own_colliders.get_mut(k) {
-            *slot = Some(Arc::clone(&c));
-        }
-        c
-    }
-
-    /// Molecule `k`'s atoms set up to move against receptor atoms of radius
-    /// up to `max_radius`, kept for the next time (for the 272k-atom
-    /// assembly they take about 20 ms to set up).
-    fn moving_atoms(&mut self, k: usize, max_radius: f32) -> Arc<DrugAtoms> {
-        if let Some(Some((r, atoms))) = self.moving_atoms.get(k)
-            && r.to_bits() == max_radius.to_bits()
-        {
-            return Arc::clone(atoms);
-        }
-        let atoms = Arc::new(DrugAtoms::new(
-            &self.bodies[k].molecule,
-            &self.settings.rule,
-            max_radius,
-        ));
-        if let Some(slot) = self.moving_atoms.get_mut(k) {
-            *slot = Some((max_radius, Arc::clone(&atoms)));
-        }
-        atoms
-    }
-
-    /// Every molecule but the selected one, at its current pose, as one
-    /// collider: its frame (the atoms' centre), the collider and each
-    /// atom's (molecule, atom).
-    fn merged_environment(&self) -> (Pose, Collider, Vec<(usize, usize)>) {
-        let mut atoms = Vec::new();
-        let mut positions = Vec::new();
-        let mut owners = Vec::new();
-        for (k, b) in self.bodies.iter().enumerate() {
-            if k == self.selected {
-                continue;
-            }
-            for (i, a) in b.molecule.atoms.iter().enumerate() {
-                atoms.push(a.clone());
-                positions.push(b.pose.transform_point(b.molecule.local[i].as_dvec3()));
-                owners.push((k, i));
-            }
-        }
-        let merged = Molecule::new("environment", atoms, &positions);
-        let frame = Pose::from_translation(merged.centre);
-        let collider = Collider::build(&merged, &self.settings.rule, self.settings.collider);
-        (frame, collider, owners)
-    }
-
-    fn move_selected(&mut self, translate: DVec3, axis: DVec3, angle: f64, out: &mut FrameOutcome) {
-        let b = self.selected;
-        let from = self.bodies[b].pose;
-        let to = from.moved(translate, axis, angle);
-        if !to.within_range() {
-            out.messages.push(format!(
-                "refused: a molecule may not move more than {:e} Å from the origin",
-                crate::motion::MAX_COORDINATE
-            ));
-            return;
-        }
-        if !self.settings.collision {
-            self.bodies[b].pose = to;
-            self.history.record(b, from, to);
-            out.moved = true;
-            out.changed = true;
-            return;
-        }
-        let (response, touch) = (self.settings.response, self.settings.touch);
-        let Some(env) = self.environment() else {
-            // Nothing to collide with.
-            self.bodies[b].pose = to;
-            self.history.record(b, from, to);
-            out.moved = true;
-            out.changed = true;
-            return;
-        };
-        let inv = env.frame.inverse();
-        let (start, end) = (inv.compose(&from), inv.compose(&to));
-        let t0 = Instant::now();
-        let r = respond(&env.collider, &env.drug, &start, &end, response, &touch);
-        out.collision_timed(t0);
-        let frame = env.frame;
-        let contacts = env.contacts(b, &r.contacts);
-        out.t = r.t;
-        let new_pose = frame.compose(&r.pose);
-        if new_pose != from {
-            self.bodies[b].pose = new_pose;
-            self.history.record(b, from, new_pose);
-            out.moved = true;
-            out.changed = true;
-        }
-        if !r.start_colliding.is_empty() && r.t < 1.0 {
-            out.messages
-                .push("start pose overlaps: only moves that do not deepen it are allowed".into());
-        }
-        self.set_contacts(contacts, out);
-    }
-
-    /// Puts body `b` at `pose` (undo, redo, reset): a jump, not a motion, so
-    /// collisions are reported at the new pose, not prevented.
-    fn place(&mut self, b: usize, pose: Pose, out: &mut FrameOutcome) {
-        self.bodies[b].pose = pose;
-        out.changed = true;
-        out.moved |= b == self.selected;
-        if b != self.selected {
-            self.env = None; // the environment held the old pose
-        }
-        self.refresh_contacts(out);
-    }
-
-    /// Recomputes the selected molecule's contacts where it stands.
-    fn refresh_contacts(&mut self, out: &mut FrameOutcome) {
-        if !self.settings.collision || self.bodies.is_empty() {
-            self.set_contacts(Vec::new(), out);
-            return;
-        }
-        let b = self.selected;
-        let pose = self.bodies[b].pose;
-        let tol = self.settings.touch.tolerance as f32;
-        let Some(env) = self.environment() else {
-            self.set_contacts(Vec::new(), out);
-            return;
-        };
-        let rel = env.frame.inverse().compose(&pose);
-        let t0 = Instant::now();
-        let pairs = crate::collide::pairs_within(&env.collider, &env.drug, &rel, tol);
-        out.collision_timed(t0);
-        let contacts = env.contacts(b, &pairs);
-        self.set_contacts(contacts, out);
-    }
-
-    /// Replaces the contact list, reporting highlight changes and new contacts.
-    /// Replaces the contact list, reporting highlight changes and new
-    /// contacts. Work is proportional to the contacts, not to the atoms: only
-    /// atoms in the old or the new list can change.
-    fn set_contacts(&mut self, contacts: Vec<Contact>, out: &mut FrameOutcome) {
-        use std::collections::BTreeSet;
-        let key = |c: &Contact| (c.moving, c.other);
-        let old: BTreeSet<_> = self.contacts.iter().map(key).collect();
-        out.new_contact |= contacts.iter().any(|c| !old.contains(&key(c)));
-        let atoms = |list: &[Contact]| -> BTreeSet<(usize, usize)> {
-            list.iter().flat_map(|c| [c.moving, c.other]).collect()
-        };
-        let was = atoms(&self.contacts);
-        let now = atoms(&contacts);
-        // Sorted (molecule, atom) order keeps the change list deterministic.
-        for &(k, i) in was.union(&now) {
-            let on = now.contains(&(k, i));
-            if let Some(flag) = self.highlighted.get_mut(k).and_then(|h| h.get_mut(i))
-                && *flag != on
-            {
-                *flag = on;
-                out.highlight_changes.push((k, i, on));
-            }
-        }
-        if !out.highlight_changes.is_empty() {
-            out.changed = true;
-        }
-        self.contacts = contacts.clone();
-        out.contacts = contacts;
-    }
-
     /// The world pose of molecule `b` expressed in molecule `frame`'s file
     /// coordinates (e.g. the drug in the receptor's frame, for saving).
     pub fn pose_in_frame_of(&self, b: usize, frame: usize) -> Option<Pose> {
@@ -885,61 +722,5 @@ impl Session {
         // file coords of `frame` = loaded ∘ pose⁻¹ applied to world points.
         let world_to_file = reference.loaded.compose(&reference.pose.inverse());
         Some(world_to_file.compose(&body.pose))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::{RadiiSet, builtin};
-
-    /// One frame moving the selected molecule (object mode) by `v`.
-    fn nudge(s: &mut Session, v: DVec3) {
-        s.step(&FrameInput::nudged(v, DVec3::ZERO), 0.0);
-    }
-
-    fn env_collider(s: &Session) -> Arc<Collider> {
-        Arc::clone(&s.env.as_ref().expect("an environment").collider)
-    }
-
-    fn env_drug(s: &Session) -> Arc<DrugAtoms> {
-        Arc::clone(&s.env.as_ref().expect("an environment").drug)
-    }
-
-    #[test]
-    fn a_molecules_collider_and_moving_atoms_are_built_once_whatever_is_selected_or_moved() {
-        let (rings, e) = builtin::scene(RadiiSet::Bondi);
-        let mut s = Session::new(vec![rings, e], Settings::default()).expect("session");
-        s.step(&FrameInput::docking(), 0.0);
-        nudge(&mut s, DVec3::new(0.0, 0.0, 1.0));
-        let (rings_collider, e_atoms) = (env_collider(&s), env_drug(&s));
-        // Select the rings and move them (the E's collider is built), then
-        // the E again: the rings' collider is the one built first.
-        s.step(&FrameInput::with_commands(&[Command::Select(0)]), 0.0);
-        nudge(&mut s, DVec3::new(0.0, 2.0, 0.0));
-        let (e_collider, rings_atoms) = (env_collider(&s), env_drug(&s));
-        s.step(&FrameInput::with_commands(&[Command::Select(1)]), 0.0);
-        nudge(&mut s, DVec3::new(0.0, 0.0, 1.0));
-        assert!(Arc::ptr_eq(&env_collider(&s), &rings_collider));
-        assert!(Arc::ptr_eq(&env_drug(&s), &e_atoms));
-        assert_eq!(s.env.as_ref().map(|e| e.frame), Some(s.bodies[0].pose));
-        s.step(&FrameInput::with_commands(&[Command::Select(0)]), 0.0);
-        nudge(&mut s, DVec3::new(0.0, 1.0, 0.0));
-        assert!(Arc::ptr_eq(&env_collider(&s), &e_collider));
-        assert!(Arc::ptr_eq(&env_drug(&s), &rings_atoms));
-    }
-
-    #[test]
-    fn two_or_more_other_molecules_are_merged_at_their_poses() {
-        let (rings, e) = builtin::scene(RadiiSet::Bondi);
-        let (_, e2) = builtin::scene(RadiiSet::Bondi);
-        let mut s = Session::new(vec![rings, e, e2], Settings::default()).expect("session");
-        s.step(&FrameInput::docking(), 0.0);
-        nudge(&mut s, DVec3::new(0.0, 30.0, 0.0));
-        let env = s.env.as_ref().expect("an environment");
-        let n = s.bodies[0].molecule.len() + s.bodies[1].molecule.len();
-        assert_eq!(env.collider.len(), n);
-        assert!(matches!(&env.owners, Owners::Merged(v) if v.len() == n));
-        assert_eq!(env.frame.rotation, glam::DQuat::IDENTITY);
     }
 }

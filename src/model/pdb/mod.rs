@@ -290,6 +290,7 @@ fn build(mut raw: Raw, label: &str, name: &str, opts: &LoadOptions) -> Result<Lo
             positions: raw.positions,
             hydrogen_only,
             bonds,
+            file_chem: Default::default(),
         },
         warnings,
     })

@@ -1,0 +1,394 @@
+//! How the selected molecule meets the others: its *environment* (every
+//! other molecule, indexed by one collider, built once per molecule in its
+//! own frame or merged when there are several), moves through the
+//! collision response, and the contacts and highlights that follow.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::DVec3;
+
+use super::{Contact, FrameOutcome, Session};
+use crate::collide::{Collider, DrugAtoms, Response, TouchOptions, respond};
+use crate::model::Molecule;
+use crate::motion::Pose;
+
+/// Makes a response's contacts those of the pose it leaves the drug at,
+/// touching what stopped it.
+///
+/// `stop` reports the pairs its rejected step ran into, at a pose never
+/// shown: the contacts shown are those where the drug stays. `slide` ends
+/// with a leg along the tangent of what it touched, which curves away from
+/// a round atom: a leg of 0.2 Å ends about 0.006 Å clear, beyond the
+/// tolerance, so the drug pressed into the receptor showed "Contacts: 3",
+/// then 0 every other frame while it could not move. When the push was
+/// blocked and the slide ends touching nothing, the rest of the push (the
+/// part the slide took off) is taken once more, through move-to-touch, so
+/// the drug ends against what it slides along (never beyond the push
+/// asked for, never overlapping).
+fn shown_contacts(
+    env: &Environment,
+    start: &Pose,
+    end: &Pose,
+    touch: &TouchOptions,
+    r: &mut crate::collide::StepResult,
+) {
+    match r.response {
+        Response::Stop if r.t < 1.0 => {
+            r.contacts = crate::collide::pairs_within(
+                &env.collider,
+                &env.drug,
+                start,
+                touch.tolerance as f32,
+            );
+        }
+        Response::Slide if r.t < 1.0 && r.contacts.is_empty() => {
+            let rest = 1.0 - r.t;
+            let q = (end.rotation * start.rotation.conjugate()).normalize();
+            let (axis, angle) = q.to_axis_angle();
+            let target = r.pose.moved(
+                (end.translation - start.translation) * rest,
+                axis,
+                angle * rest,
+            );
+            let s =
+                crate::collide::move_to_touch(&env.collider, &env.drug, &r.pose, &target, touch);
+            r.pose = s.pose;
+            r.contacts = s.contacts;
+            r.colliding = s.colliding;
+        }
+        _ => {}
+    }
+}
+
+/// The environment of the selected molecule: all others.
+#[derive(Debug, Clone)]
+pub(super) struct Environment {
+    selected: usize,
+    /// Pose of the collider's frame in the world: the molecule's pose for
+    /// one molecule, the merged atoms' centre (no rotation) for several.
+    frame: Pose,
+    collider: Arc<Collider>,
+    drug: Arc<DrugAtoms>,
+    owners: Owners,
+}
+
+/// Which molecule's atom each environment atom is.
+#[derive(Debug, Clone)]
+enum Owners {
+    /// One molecule: atom `i` is its atom `i`.
+    One(usize),
+    /// Several, merged: (molecule, atom) of each.
+    Merged(Vec<(usize, usize)>),
+}
+
+impl Owners {
+    fn of(&self, i: usize) -> (usize, usize) {
+        match self {
+            Self::One(k) => (*k, i),
+            Self::Merged(v) => v[i],
+        }
+    }
+}
+
+impl Environment {
+    /// Pairs between the moving molecule `b` and the environment, as contacts
+    /// between molecules.
+    fn contacts(&self, b: usize, pairs: &[crate::collide::Pair]) -> Vec<Contact> {
+        pairs
+            .iter()
+            .map(|p| Contact {
+                moving: (b, p.drug as usize),
+                other: self.owners.of(p.receptor as usize),
+                distance: p.distance,
+                contact: p.contact,
+            })
+            .collect()
+    }
+}
+
+impl Session {
+    /// With collision on, builds the selected molecule's environment now
+    /// (if it is not built) and waits until its collider's clearance map is
+    /// there, so the frames that follow run as every frame will from then
+    /// on: for benchmarks. Frames never wait for the map (see
+    /// [`Collider::wait_for_clearance`]).
+    pub fn wait_for_collider(&mut self) {
+        if self.settings.collision
+            && let Some(env) = self.environment()
+        {
+            env.collider.wait_for_clearance();
+        }
+    }
+
+    /// Builds (or reuses) the environment of the selected molecule.
+    fn environment(&mut self) -> Option<&Environment> {
+        let stale = self
+            .env
+            .as_ref()
+            .is_none_or(|e| e.selected != self.selected);
+        if stale {
+            self.env = self.build_environment();
+        }
+        self.env.as_ref()
+    }
+
+    fn build_environment(&mut self) -> Option<Environment> {
+        let selected = self.selected;
+        let mut others = (0..self.bodies.len())
+            .filter(|&k| k != selected && !self.bodies[k].molecule.is_empty());
+        let (first, second) = (others.next(), others.next());
+        let (frame, collider, owners) = match (first, second) {
+            (None, _) => return None,
+            (Some(k), None) => (self.bodies[k].pose, self.own_collider(k), Owners::One(k)),
+            (Some(_), Some(_)) => {
+                let (frame, collider, owners) = self.merged_environment();
+                (frame, Arc::new(collider), Owners::Merged(owners))
+            }
+        };
+        let drug = self.moving_atoms(selected, collider.max_radius());
+        Some(Environment {
+            selected,
+            frame,
+            collider,
+            drug,
+            owners,
+        })
+    }
+
+    /// Molecule `k`'s collider in its own frame, built on first use.
+    fn own_collider(&mut self, k: usize) -> Arc<Collider> {
+        if let Some(Some(c)) = self.own_colliders.get(k) {
+            return Arc::clone(c);
+        }
+        let c = Arc::new(Collider::build(
+            &self.bodies[k].molecule,
+            &self.settings.rule,
+            self.settings.collider,
+        ));
+        if let Some(slot) = self.own_colliders.get_mut(k) {
+            *slot = Some(Arc::clone(&c));
+        }
+        c
+    }
+
+    /// Molecule `k`'s atoms set up to move against receptor atoms of radius
+    /// up to `max_radius`, kept for the next time (for the 272k-atom
+    /// assembly they take about 20 ms to set up).
+    fn moving_atoms(&mut self, k: usize, max_radius: f32) -> Arc<DrugAtoms> {
+        if let Some(Some((r, atoms))) = self.moving_atoms.get(k)
+            && r.to_bits() == max_radius.to_bits()
+        {
+            return Arc::clone(atoms);
+        }
+        let atoms = Arc::new(DrugAtoms::new(
+            &self.bodies[k].molecule,
+            &self.settings.rule,
+            max_radius,
+        ));
+        if let Some(slot) = self.moving_atoms.get_mut(k) {
+            *slot = Some((max_radius, Arc::clone(&atoms)));
+        }
+        atoms
+    }
+
+    /// Every molecule but the selected one, at its current pose, as one
+    /// collider: its frame (the atoms' centre), the collider and each
+    /// atom's (molecule, atom).
+    fn merged_environment(&self) -> (Pose, Collider, Vec<(usize, usize)>) {
+        let mut atoms = Vec::new();
+        let mut positions = Vec::new();
+        let mut owners = Vec::new();
+        for (k, b) in self.bodies.iter().enumerate() {
+            if k == self.selected {
+                continue;
+            }
+            for (i, a) in b.molecule.atoms.iter().enumerate() {
+                atoms.push(a.clone());
+                positions.push(b.pose.transform_point(b.molecule.local[i].as_dvec3()));
+                owners.push((k, i));
+            }
+        }
+        let merged = Molecule::new("environment", atoms, &positions);
+        let frame = Pose::from_translation(merged.centre);
+        let collider = Collider::build(&merged, &self.settings.rule, self.settings.collider);
+        (frame, collider, owners)
+    }
+
+    pub(super) fn move_selected(
+        &mut self,
+        translate: DVec3,
+        axis: DVec3,
+        angle: f64,
+        out: &mut FrameOutcome,
+    ) {
+        let b = self.selected;
+        let from = self.bodies[b].pose;
+        let to = from.moved(translate, axis, angle);
+        if !to.within_range() {
+            out.messages.push(format!(
+                "refused: a molecule may not move more than {:e} Å from the origin",
+                crate::motion::MAX_COORDINATE
+            ));
+            return;
+        }
+        if !self.settings.collision {
+            self.bodies[b].pose = to;
+            self.history.record(b, from, to);
+            out.moved = true;
+            out.changed = true;
+            return;
+        }
+        let (response, touch) = (self.settings.response, self.settings.touch);
+        let Some(env) = self.environment() else {
+            // Nothing to collide with.
+            self.bodies[b].pose = to;
+            self.history.record(b, from, to);
+            out.moved = true;
+            out.changed = true;
+            return;
+        };
+        let inv = env.frame.inverse();
+        let (start, end) = (inv.compose(&from), inv.compose(&to));
+        let t0 = Instant::now();
+        let mut r = respond(&env.collider, &env.drug, &start, &end, response, &touch);
+        shown_contacts(env, &start, &end, &touch, &mut r);
+        out.collision_timed(t0);
+        let frame = env.frame;
+        let contacts = env.contacts(b, &r.contacts);
+        out.t = r.t;
+        let new_pose = frame.compose(&r.pose);
+        if new_pose != from {
+            self.bodies[b].pose = new_pose;
+            self.history.record(b, from, new_pose);
+            out.moved = true;
+            out.changed = true;
+        }
+        if !r.start_colliding.is_empty() && r.t < 1.0 {
+            out.messages
+                .push("start pose overlaps: only moves that do not deepen it are allowed".into());
+        }
+        self.set_contacts(contacts, out);
+    }
+
+    /// Puts body `b` at `pose` (undo, redo, reset): a jump, not a motion, so
+    /// collisions are reported at the new pose, not prevented.
+    pub(super) fn place(&mut self, b: usize, pose: Pose, out: &mut FrameOutcome) {
+        self.bodies[b].pose = pose;
+        out.changed = true;
+        out.moved |= b == self.selected;
+        if b != self.selected {
+            self.env = None; // the environment held the old pose
+        }
+        self.refresh_contacts(out);
+    }
+
+    /// Recomputes the selected molecule's contacts where it stands.
+    pub(super) fn refresh_contacts(&mut self, out: &mut FrameOutcome) {
+        if !self.settings.collision || self.bodies.is_empty() {
+            self.set_contacts(Vec::new(), out);
+            return;
+        }
+        let b = self.selected;
+        let pose = self.bodies[b].pose;
+        let tol = self.settings.touch.tolerance as f32;
+        let Some(env) = self.environment() else {
+            self.set_contacts(Vec::new(), out);
+            return;
+        };
+        let rel = env.frame.inverse().compose(&pose);
+        let t0 = Instant::now();
+        let pairs = crate::collide::pairs_within(&env.collider, &env.drug, &rel, tol);
+        out.collision_timed(t0);
+        let contacts = env.contacts(b, &pairs);
+        self.set_contacts(contacts, out);
+    }
+
+    /// Replaces the contact list, reporting highlight changes and new contacts.
+    /// Replaces the contact list, reporting highlight changes and new
+    /// contacts. Work is proportional to the contacts, not to the atoms: only
+    /// atoms in the old or the new list can change.
+    pub(super) fn set_contacts(&mut self, contacts: Vec<Contact>, out: &mut FrameOutcome) {
+        use std::collections::BTreeSet;
+        let key = |c: &Contact| (c.moving, c.other);
+        let old: BTreeSet<_> = self.contacts.iter().map(key).collect();
+        out.new_contact |= contacts.iter().any(|c| !old.contains(&key(c)));
+        let atoms = |list: &[Contact]| -> BTreeSet<(usize, usize)> {
+            list.iter().flat_map(|c| [c.moving, c.other]).collect()
+        };
+        let was = atoms(&self.contacts);
+        let now = atoms(&contacts);
+        // Sorted (molecule, atom) order keeps the change list deterministic.
+        for &(k, i) in was.union(&now) {
+            let on = now.contains(&(k, i));
+            if let Some(flag) = self.highlighted.get_mut(k).and_then(|h| h.get_mut(i))
+                && *flag != on
+            {
+                *flag = on;
+                out.highlight_changes.push((k, i, on));
+            }
+        }
+        if !out.highlight_changes.is_empty() {
+            out.changed = true;
+        }
+        self.contacts = contacts.clone();
+        out.contacts = contacts;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{RadiiSet, builtin};
+    use crate::session::{Command, FrameInput, Settings};
+
+    /// One frame moving the selected molecule (object mode) by `v`.
+    fn nudge(s: &mut Session, v: DVec3) {
+        s.step(&FrameInput::nudged(v, DVec3::ZERO), 0.0);
+    }
+
+    fn env_collider(s: &Session) -> Arc<Collider> {
+        Arc::clone(&s.env.as_ref().expect("an environment").collider)
+    }
+
+    fn env_drug(s: &Session) -> Arc<DrugAtoms> {
+        Arc::clone(&s.env.as_ref().expect("an environment").drug)
+    }
+
+    #[test]
+    fn a_molecules_collider_and_moving_atoms_are_built_once_whatever_is_selected_or_moved() {
+        let (rings, e) = builtin::scene(RadiiSet::Bondi);
+        let mut s = Session::new(vec![rings, e], Settings::default()).expect("session");
+        s.step(&FrameInput::docking(), 0.0);
+        nudge(&mut s, DVec3::new(0.0, 0.0, 1.0));
+        let (rings_collider, e_atoms) = (env_collider(&s), env_drug(&s));
+        // Select the rings and move them (the E's collider is built), then
+        // the E again: the rings' collider is the one built first.
+        s.step(&FrameInput::with_commands(&[Command::Select(0)]), 0.0);
+        nudge(&mut s, DVec3::new(0.0, 2.0, 0.0));
+        let (e_collider, rings_atoms) = (env_collider(&s), env_drug(&s));
+        s.step(&FrameInput::with_commands(&[Command::Select(1)]), 0.0);
+        nudge(&mut s, DVec3::new(0.0, 0.0, 1.0));
+        assert!(Arc::ptr_eq(&env_collider(&s), &rings_collider));
+        assert!(Arc::ptr_eq(&env_drug(&s), &e_atoms));
+        assert_eq!(s.env.as_ref().map(|e| e.frame), Some(s.bodies[0].pose));
+        s.step(&FrameInput::with_commands(&[Command::Select(0)]), 0.0);
+        nudge(&mut s, DVec3::new(0.0, 1.0, 0.0));
+        assert!(Arc::ptr_eq(&env_collider(&s), &e_collider));
+        assert!(Arc::ptr_eq(&env_drug(&s), &rings_atoms));
+    }
+
+    #[test]
+    fn two_or_more_other_molecules_are_merged_at_their_poses() {
+        let (rings, e) = builtin::scene(RadiiSet::Bondi);
+        let (_, e2) = builtin::scene(RadiiSet::Bondi);
+        let mut s = Session::new(vec![rings, e, e2], Settings::default()).expect("session");
+        s.step(&FrameInput::docking(), 0.0);
+        nudge(&mut s, DVec3::new(0.0, 30.0, 0.0));
+        let env = s.env.as_ref().expect("an environment");
+        let n = s.bodies[0].molecule.len() + s.bodies[1].molecule.len();
+        assert_eq!(env.collider.len(), n);
+        assert!(matches!(&env.owners, Owners::Merged(v) if v.len() == n));
+        assert_eq!(env.frame.rotation, glam::DQuat::IDENTITY);
+    }
+}
