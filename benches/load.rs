@@ -33,9 +33,12 @@ const FILES: [(&str, &str); 4] = [
 /// that files without a ligand of their own answer too.
 const DRUG: &str = "benzamidine_3ptb.sdf";
 
-/// One process run of `bump check file drug`: wall seconds and peak
-/// resident KiB.
-fn run_bump(bump: &Path, file: &Path, drug: &Path) -> Option<(f64, Option<u64>)> {
+/// One run's figures: wall seconds, and from `/usr/bin/time -v` when it is
+/// there, peak resident KiB and CPU seconds (user + system).
+type Run = (f64, Option<u64>, Option<f64>);
+
+/// One process run of `bump check file drug`.
+fn run_bump(bump: &Path, file: &Path, drug: &Path) -> Option<Run> {
     let timer = Path::new("/usr/bin/time");
     let start = Instant::now();
     let out = if timer.is_file() {
@@ -64,11 +67,20 @@ fn run_bump(bump: &Path, file: &Path, drug: &Path) -> Option<(f64, Option<u64>)>
         );
         return None;
     }
-    let rss = String::from_utf8_lossy(&out.stderr)
-        .lines()
-        .find(|l| l.contains("Maximum resident set size"))
-        .and_then(|l| l.rsplit(':').next()?.trim().parse().ok());
-    Some((wall, rss))
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let field = |name: &str| {
+        stderr
+            .lines()
+            .find(|l| l.contains(name))
+            .and_then(|l| l.rsplit(':').next())
+            .map(|v| v.trim().to_string())
+    };
+    let rss = field("Maximum resident set size").and_then(|v| v.parse().ok());
+    let cpu = match (field("User time (seconds)"), field("System time (seconds)")) {
+        (Some(u), Some(s)) => Some(u.parse::<f64>().ok()? + s.parse::<f64>().ok()?),
+        _ => None,
+    };
+    Some((wall, rss, cpu))
 }
 
 /// The receptor atoms `bump check` kept: its first output line is
@@ -135,11 +147,13 @@ pub fn section(bump: &Path, data: &Path, files: &[(&str, &str)], runs: usize) ->
         .collect();
     let mut walls: Vec<Vec<f64>> = vec![Vec::new(); files.len()];
     let mut rss: Vec<u64> = vec![0; files.len()];
+    let mut cpus: Vec<Vec<f64>> = vec![Vec::new(); files.len()];
     for _ in 0..runs {
         for (k, (path, _)) in files.iter().enumerate() {
-            if let Some((wall, peak)) = run_bump(bump, path, &data.join(DRUG)) {
+            if let Some((wall, peak, cpu)) = run_bump(bump, path, &data.join(DRUG)) {
                 walls[k].push(wall);
                 rss[k] = rss[k].max(peak.unwrap_or(0));
+                cpus[k].extend(cpu);
             }
         }
     }
@@ -149,7 +163,9 @@ pub fn section(bump: &Path, data: &Path, files: &[(&str, &str)], runs: usize) ->
     let _ = writeln!(
         out,
         "From command to answer: `bump check FILE {DRUG}` in a fresh process (read both, build the collider, check), \
-         minimum and median of {runs} runs, peak resident memory from `/usr/bin/time -v`, bytes per atom read. \
+         minimum and median of {runs} runs; CPU seconds (user + system, the least of the runs: \
+         on a shared machine the wall time waits for cores, the CPU time does not) and \
+         peak resident memory from `/usr/bin/time -v`, bytes per atom read. \
          gemmi: `gemmi.read_structure` in a running Python (read alone), and a fresh `python -c` process that imports gemmi and reads the file ({}).\n",
         match &peers {
             Some(p) => format!(
@@ -160,8 +176,8 @@ pub fn section(bump: &Path, data: &Path, files: &[(&str, &str)], runs: usize) ->
         }
     );
     out.push_str(
-        "| file | atoms | bump check, s (min / median) | bump peak RSS | bytes per atom | gemmi read, s (min / median) | gemmi process, s | gemmi peak RSS |\n\
-         | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+        "| file | atoms | bump check, s (min / median) | bump CPU, s | bump peak RSS | bytes per atom | gemmi read, s (min / median) | gemmi read CPU, s | gemmi process, s (CPU) | gemmi peak RSS |\n\
+         | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
     );
     for (k, (path, what)) in files.iter().enumerate() {
         if walls[k].is_empty() {
@@ -178,12 +194,22 @@ pub fn section(bump: &Path, data: &Path, files: &[(&str, &str)], runs: usize) ->
             (Some(a), Some(b)) => format!("{a:.3} / {b:.3}"),
             _ => "–".into(),
         };
-        let gemmi_process = num("process_s_min").map_or("–".into(), |v| format!("{v:.3}"));
+        let gemmi_read_cpu = num("read_cpu_s_min").map_or("–".into(), |v| format!("{v:.3}"));
+        let gemmi_process = match (num("process_s_min"), num("process_cpu_s_min")) {
+            (Some(w), Some(c)) => format!("{w:.3} ({c:.2})"),
+            (Some(w), None) => format!("{w:.3}"),
+            _ => "–".into(),
+        };
+        let cpu = if cpus[k].is_empty() {
+            "–".into()
+        } else {
+            format!("{:.2}", min_median(&mut cpus[k]).0)
+        };
         let gemmi_rss =
             num("process_max_rss_kib").map_or("–".into(), |v| format!("{:.0} MiB", v / 1024.0));
         let _ = writeln!(
             out,
-            "| `{name}` ({what}) | {atoms} | {lo:.3} / {mid:.3} | {:.0} MiB | {} | {gemmi_read} | {gemmi_process} | {gemmi_rss} |",
+            "| `{name}` ({what}) | {atoms} | {lo:.3} / {mid:.3} | {cpu} | {:.0} MiB | {} | {gemmi_read} | {gemmi_read_cpu} | {gemmi_process} | {gemmi_rss} |",
             rss[k] as f64 / 1024.0,
             if atoms > 0 {
                 format!("{:.0}", rss[k] as f64 * 1024.0 / atoms as f64)
