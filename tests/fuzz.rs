@@ -13,8 +13,9 @@
 //!   target's temporary folder, to be read again with
 //!   `BUMP_FUZZ_REPLAY=FILE`.
 //!
-//! `cargo test --test fuzz` runs [`DEFAULT_INPUTS`] inputs per reader (a
-//! few seconds in the test profile); `BUMP_FUZZ_INPUTS=N` runs N, and
+//! `cargo test --test fuzz` runs [`DEFAULT_INPUTS`] inputs per reader
+//! (about two minutes in the test profile on a busy two-core machine);
+//! `BUMP_FUZZ_INPUTS=N` runs N, and
 //! `cargo test --test fuzz -- --ignored` runs 10⁶ per reader.
 //! `BUMP_FUZZ_SEED` changes the seed (each reader's generator starts from
 //! it and the reader's name). A new reader is one more line in [`readers`].
