@@ -17,6 +17,8 @@
 //! - [`session`]: the docking session's state machine (modes, selection,
 //!   collision settings, undo), stepped one frame at a time.
 //!
+//! - [`text`]: reading text files: line endings, size limits, short
+//!   excerpts of bad input for messages.
 //! - [`input`]: the joystick map and the pure mapping from raw axes to
 //!   motions (the gilrs device layer, `input::gamepads`, is part of the shell).
 //!
@@ -59,3 +61,4 @@ pub mod render;
 pub mod rng;
 pub mod scene;
 pub mod session;
+pub mod text;

@@ -36,6 +36,27 @@ impl Scene {
     /// Builds the collider for `receptor` and prepares `drug`.
     pub fn new(receptor: Molecule, drug: Molecule, rule: ContactRule, kind: ColliderKind) -> Self {
         let collider = Collider::build(&receptor, &rule, kind);
+        Self::with_collider(receptor, drug, rule, collider)
+    }
+
+    /// [`Scene::new`] with a plain collider ([`Collider::build_plain`]),
+    /// for a command that asks a few queries and exits.
+    pub fn new_plain(
+        receptor: Molecule,
+        drug: Molecule,
+        rule: ContactRule,
+        kind: ColliderKind,
+    ) -> Self {
+        let collider = Collider::build_plain(&receptor, &rule, kind);
+        Self::with_collider(receptor, drug, rule, collider)
+    }
+
+    fn with_collider(
+        receptor: Molecule,
+        drug: Molecule,
+        rule: ContactRule,
+        collider: Collider,
+    ) -> Self {
         let drug_atoms = DrugAtoms::new(&drug, &rule, collider.max_radius());
         Self {
             receptor,

@@ -523,7 +523,7 @@ fn bad_input_gets_clear_errors() {
     let out = bump(&["stats", huge.to_str().expect("path")]);
     let e = stderr(&out);
     assert!(
-        e.contains("huge.pdb:1: x coordinate 1.0e300 is beyond"),
+        e.contains("huge.pdb:1:31: x coordinate 1.0e300 is beyond"),
         "{e}"
     );
     assert!(e.len() < 200, "{e}");

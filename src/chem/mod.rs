@@ -258,10 +258,10 @@ mod tests {
             .enumerate()
             .map(|(i, (e, _))| AtomInfo {
                 serial: i as i64 + 1,
-                name: format!("{e}{}", i + 1),
+                name: format!("{e}{}", i + 1).into(),
                 residue: "LIG".into(),
                 seq: 1,
-                insertion: String::new(),
+                insertion: Default::default(),
                 chain: "A".into(),
                 element: (*e).into(),
                 radius: 1.7,
@@ -635,7 +635,7 @@ mod tests {
                         name: (*name).into(),
                         residue: "GLY".into(),
                         seq,
-                        insertion: String::new(),
+                        insertion: Default::default(),
                         chain: "A".into(),
                         element: name[..1].into(),
                         radius: 1.7,

@@ -12,7 +12,7 @@ use clap::Args;
 /// Options of `bump devices`.
 #[derive(Debug, Args)]
 pub struct DevicesArgs {
-    /// Watch this many seconds (0: list and exit).
+    /// Watch this many seconds (0: list and exit; at most 1e6).
     #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     seconds: f64,
     /// The joystick map whose profiles to show (default: the built-in one).
@@ -26,9 +26,8 @@ pub fn run(a: &DevicesArgs) -> anyhow::Result<()> {
         Some(p) => JoystickMap::read(p)?,
         None => JoystickMap::default(),
     };
-    if !(a.seconds.is_finite() && a.seconds >= 0.0) {
-        anyhow::bail!("--seconds must be a non-negative number, not {}", a.seconds);
-    }
+    let seconds = bump::motion::range::check_seconds(a.seconds)
+        .map_err(|e| anyhow::anyhow!("--seconds: {e}"))?;
     let (pads, why) = Gamepads::open();
     let Some(mut pads) = pads else {
         outln!("{}", why.unwrap_or_else(|| "no joystick support".into()));
@@ -45,14 +44,15 @@ pub fn run(a: &DevicesArgs) -> anyhow::Result<()> {
         show_device(&e, &map);
         controllers.apply(&map, e);
     }
-    if a.seconds == 0.0 {
+    if seconds == 0.0 {
         return Ok(());
     }
     outln!(
         "watching for {} s: move sticks, press buttons, plug devices in or out (Ctrl+C stops)",
-        a.seconds
+        bump::text::short_number(seconds)
     );
-    let end = Instant::now() + Duration::from_secs_f64(a.seconds);
+    // Within range, so neither the duration nor the instant overflows.
+    let end = Instant::now() + Duration::from_secs_f64(seconds);
     while Instant::now() < end {
         for e in pads.poll() {
             match &e {

@@ -72,6 +72,7 @@ pub fn write_line(args: std::fmt::Arguments) {
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
+    scene_args::check_environment()?;
     match cli.command {
         Some(Command::Check(a)) => check::run(&a),
         Some(Command::Touch(a)) => touch::run(&a),

@@ -9,7 +9,8 @@ use bump::session::{Command, FrameInput, Session, Settings};
 use clap::Args;
 use glam::DVec3;
 
-use super::scene_args::{SceneArgs, Turn, parse_f32, parse_turn, parse_vec3};
+use super::scene_args::{SceneArgs, Turn, parse_f32, parse_turn, parse_vec3, within_range};
+use bump::text::short_number;
 
 /// Arguments of `bump render`.
 #[derive(Debug, Args)]
@@ -89,15 +90,21 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 /// Runs `bump render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if !(args.zoom.is_finite() && args.zoom > 0.0) {
-        bail!("--zoom must be a positive number, got {}", args.zoom);
+        bail!(
+            "--zoom must be a positive number, got {}",
+            short_number(args.zoom)
+        );
     }
     if !(args.eye_sep.is_finite() && (0.0..=1.0).contains(&args.eye_sep)) {
-        bail!("--eye-sep must be between 0 and 1, got {}", args.eye_sep);
+        bail!(
+            "--eye-sep must be between 0 and 1, got {}",
+            short_number(args.eye_sep)
+        );
     }
     if !(args.convergence.is_finite() && args.convergence > 0.0) {
         bail!(
             "--convergence must be a positive number, got {}",
-            args.convergence
+            short_number(args.convergence)
         );
     }
     if !(0.0..=1.0).contains(&args.depth_strength) {
@@ -107,6 +114,18 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     let loaded = args.scene.load()?;
+    let turn = args.turn.unwrap_or(Turn {
+        axis: DVec3::Z,
+        degrees: 0.0,
+    });
+    // The same range check as `check` and `touch`: a pose the session
+    // would refuse to move to is refused here, not drawn unmoved.
+    let moved = loaded.scene.file_relative(DVec3::ZERO).moved(
+        args.translate.unwrap_or(DVec3::ZERO),
+        turn.axis,
+        turn.radians(),
+    );
+    within_range(&loaded.scene, "--move", &moved)?;
     let settings = Settings {
         rule: loaded.scene.rule,
         collider: args.scene.collider,
@@ -115,10 +134,6 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let molecules = vec![loaded.scene.receptor.clone(), loaded.scene.drug.clone()];
     let mut session = Session::new(molecules, settings)?;
     let mut commands = Vec::new();
-    let turn = args.turn.unwrap_or(Turn {
-        axis: DVec3::Z,
-        degrees: 0.0,
-    });
     if args.translate.is_some() || args.turn.is_some() {
         commands.push(Command::MoveBy {
             translate: args.translate.unwrap_or(DVec3::ZERO),

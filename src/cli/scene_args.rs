@@ -8,9 +8,10 @@ use anyhow::{Context, bail};
 use bump::collide::{ColliderKind, ContactRule};
 use bump::model::{
     self, Hydrogens, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin, receptor_only,
-    split_complex,
+    receptor_only_owned, split_complex_owned,
 };
-use bump::motion::{MAX_COORDINATE, Pose};
+use bump::motion::Pose;
+use bump::motion::range::check_position;
 use bump::scene::{COINCIDENT_WITHIN, Scene};
 use clap::Args;
 use glam::DVec3;
@@ -47,6 +48,10 @@ pub struct SceneArgs {
     /// Collider: brute, grid or hashed.
     #[arg(long, default_value = "hashed", value_parser = parse_collider)]
     pub collider: ColliderKind,
+    /// Most bytes a gzipped file may decompress to (e.g. 4GiB; default
+    /// 2GiB, or the environment variable BUMP_MAX_DECOMPRESSED).
+    #[arg(long, value_name = "SIZE", value_parser = parse_byte_size)]
+    pub max_decompressed: Option<u64>,
 }
 
 pub fn parse_radii(s: &str) -> Result<RadiiSet, String> {
@@ -160,16 +165,30 @@ pub fn parse_turn(s: &str) -> Result<Turn, String> {
 }
 
 /// Refuses a drug pose (relative to the receptor) whose centre lies beyond
-/// [`MAX_COORDINATE`] of the origin, naming the option that put it there.
+/// [`bump::motion::MAX_COORDINATE`] of the origin, naming the option that put it there:
+/// the range check the session and the log reader use
+/// ([`bump::motion::range`]).
 pub fn within_range(scene: &Scene, option: &str, rel: &Pose) -> anyhow::Result<()> {
     let world = scene.world_from_relative(rel);
-    if world.within_range() {
-        return Ok(());
+    match check_position(world.translation) {
+        Ok(_) => Ok(()),
+        Err(e) => bail!("{option}: the drug's centre would be {e}"),
     }
-    let farthest = world.translation.abs().max_element();
-    bail!(
-        "{option}: the drug's centre would be {farthest:.3e} Å from the origin along an axis, beyond the {MAX_COORDINATE:e} Å a pose may reach"
-    )
+}
+
+/// Parses a size in bytes (`2GiB`, `500M`, `1000000`).
+pub fn parse_byte_size(s: &str) -> Result<u64, String> {
+    bump::text::parse_byte_size(s)
+}
+
+/// Refuses a `BUMP_MAX_DECOMPRESSED` that does not hold a size, which the
+/// loader would pass over.
+pub fn check_environment() -> anyhow::Result<()> {
+    if let Ok(v) = std::env::var(model::DECOMPRESSED_LIMIT_VAR) {
+        parse_byte_size(&v)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", model::DECOMPRESSED_LIMIT_VAR))?;
+    }
+    Ok(())
 }
 
 /// A loaded scene with where it came from.
@@ -195,10 +214,12 @@ impl SceneArgs {
             radii: self.radii,
             hydrogens: self.hydrogens,
             sdf_record: None,
+            decompressed_limit: self.max_decompressed,
         }
     }
 
-    /// Loads the molecules (printing loader warnings to stderr) and builds the scene.
+    /// Loads the molecules (printing loader warnings to stderr) and builds
+    /// the scene, with a plain collider ([`Scene::new_plain`]).
     pub fn load(&self) -> anyhow::Result<LoadedScene> {
         let rule = self.rule()?;
         if self.record.is_some() && self.drug.is_none() {
@@ -221,7 +242,8 @@ impl SceneArgs {
                             "--ligand splits the receptor file; it cannot be used with a drug file"
                         );
                     }
-                    let receptor = receptor_only(&loaded.structure)?;
+                    // Taken, not copied: a large receptor is held once.
+                    let receptor = receptor_only_owned(loaded.structure)?;
                     let mut opts = self.load_options();
                     opts.sdf_record = self.record;
                     let d = model::load(drug_path, &opts)?;
@@ -234,7 +256,7 @@ impl SceneArgs {
                     let text = self.ligand.as_deref().unwrap_or("auto");
                     let spec = LigandSpec::parse(text)
                         .map_err(|e| anyhow::anyhow!("--ligand {text}: {e}"))?;
-                    let (r, d) = split_complex(&loaded.structure, &spec)?;
+                    let (r, d) = split_complex_owned(loaded.structure, &spec)?;
                     let name = d.name.clone();
                     (r, d, format!("{} ({name})", self.receptor))
                 }
@@ -242,7 +264,8 @@ impl SceneArgs {
         };
         check_usable(&receptor, &drug)?;
         let t0 = Instant::now();
-        let scene = Scene::new(receptor, drug, rule, self.collider);
+        // The commands ask a few queries and exit: no clearance map.
+        let scene = Scene::new_plain(receptor, drug, rule, self.collider);
         let build_us = t0.elapsed().as_secs_f64() * 1e6;
         warn_coincident(&scene, self.drug.is_some());
         Ok(LoadedScene {

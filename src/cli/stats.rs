@@ -86,6 +86,7 @@ pub fn run(args: &StatsArgs) -> anyhow::Result<()> {
             args.hydrogens
         },
         sdf_record: None,
+        decompressed_limit: None,
     };
     let mut rows = Vec::new();
     for f in &args.files {

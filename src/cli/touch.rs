@@ -128,11 +128,7 @@ fn warn_long_turn(turn: &Turn) {
         return;
     }
     let runs = turn.shorter_way();
-    let degrees = if degrees.abs() < 1e6 {
-        format!("{degrees}")
-    } else {
-        format!("{degrees:e}")
-    };
+    let degrees = bump::text::short_number(degrees);
     if runs == 0.0 {
         eprintln!(
             "bump: warning: --turn of {degrees}° is whole turns: the drug ends as it starts, so the step is only the move"
@@ -153,7 +149,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     if !args.tolerance.is_finite() || args.tolerance <= 0.0 {
         anyhow::bail!(
             "--tolerance must be a positive number of Å, got {}",
-            args.tolerance
+            bump::text::short_number(args.tolerance)
         );
     }
     if args.tolerance > MAX_TOLERANCE {
@@ -161,11 +157,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
             "--tolerance must be at most {MAX_TOLERANCE} Å, got {}: the drug stops within the \
              tolerance of contact, so a larger one stops it short of touching",
             // Exponent form for a huge value, not a few hundred digits.
-            if args.tolerance < 1e6 {
-                args.tolerance.to_string()
-            } else {
-                format!("{:e}", args.tolerance)
-            }
+            bump::text::short_number(args.tolerance)
         );
     }
     let loaded = args.scene.load()?;
@@ -184,7 +176,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     if tolerance > args.tolerance {
         eprintln!(
             "bump: warning: --tolerance {} raised to {MIN_TOLERANCE:e} Å: f32 coordinates cannot tell touching from colliding closer than that",
-            args.tolerance
+            bump::text::short_number(args.tolerance)
         );
     }
     let opts = TouchOptions {

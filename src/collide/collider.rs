@@ -278,8 +278,27 @@ fn bucket_sort(keys: &[u32], nbuckets: usize) -> (Vec<u32>, Vec<u32>) {
 }
 
 impl Collider {
-    /// Indexes `receptor` (in its own frame) for drugs judged by `rule`.
+    /// Indexes `receptor` (in its own frame) for drugs judged by `rule`;
+    /// a grid also builds its padded rows and clearance map, on a thread of
+    /// its own.
     pub fn build(receptor: &Molecule, rule: &ContactRule, kind: ColliderKind) -> Self {
+        Self::build_with(receptor, rule, kind, true)
+    }
+
+    /// [`Collider::build`] without the padded rows and the clearance map,
+    /// for a command that asks a few queries and exits: they would take
+    /// longer to build than the queries (over a second and 64 MiB for a
+    /// 272k-atom receptor), and the answers are the same without them.
+    pub fn build_plain(receptor: &Molecule, rule: &ContactRule, kind: ColliderKind) -> Self {
+        Self::build_with(receptor, rule, kind, false)
+    }
+
+    fn build_with(
+        receptor: &Molecule,
+        rule: &ContactRule,
+        kind: ColliderKind,
+        extras: bool,
+    ) -> Self {
         let n = receptor.len();
         let max_radius = receptor.max_radius();
         let mut lo = Vec3::splat(f32::INFINITY);
@@ -293,13 +312,12 @@ impl Collider {
             hi = Vec3::ZERO;
         }
         let cell = (2.0 * max_radius - rule.min_allowance()).max(1.0);
-        let raw: Vec<(Vec4, u32)> = receptor
-            .local
-            .iter()
-            .zip(&receptor.atoms)
-            .enumerate()
-            .map(|(i, (p, a))| (p.extend(a.radius), ((i as u32) << 1) | u32::from(a.polar)))
-            .collect();
+        // Each atom as stored, read straight from the molecule (a copy of
+        // them all would be the largest allocation of a 272k-atom build).
+        let stored = |i: u32| {
+            let (p, a) = (receptor.local[i as usize], &receptor.atoms[i as usize]);
+            (p.extend(a.radius), (i << 1) | u32::from(a.polar))
+        };
 
         // Integer cell of each stored atom: the hashed index only.
         let mut cells = Vec::new();
@@ -382,9 +400,9 @@ impl Collider {
                 )
             }
         };
-        let atoms: Vec<Vec4> = order.iter().map(|&i| raw[i as usize].0).collect();
+        let atoms: Vec<Vec4> = order.iter().map(|&i| stored(i).0).collect();
         let soa = [0, 1, 2].map(|k| padded(atoms.iter().map(|a| a[k])));
-        let meta: Vec<u32> = order.iter().map(|&i| raw[i as usize].1).collect();
+        let meta: Vec<u32> = order.iter().map(|&i| stored(i).1).collect();
         let mut slot = vec![0u32; n];
         for (k, &i) in order.iter().enumerate() {
             slot[i as usize] = k as u32;
@@ -399,6 +417,10 @@ impl Collider {
         let row_edge = GRID_EDGE.x * cell;
         match kind {
             ColliderKind::Brute => {
+                let _ = clearance.set(None);
+                let _ = rows.set(None);
+            }
+            ColliderKind::Grid | ColliderKind::Hashed if !extras => {
                 let _ = clearance.set(None);
                 let _ = rows.set(None);
             }

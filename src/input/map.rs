@@ -11,6 +11,11 @@
 //! rotation mapping ([`RotationMapping`]) picks the axis it turns about, and
 //! the speeds turn deflection into motion per second. Nothing here touches a
 //! device, so all of it is unit-tested.
+//!
+//! A map file is at most [`MAX_MAP_BYTES`] long and UTF-8 (a bad byte is
+//! named by line and column); its lines may end with LF, CRLF or a lone CR
+//! (which TOML itself does not allow, so it is read as LF); brackets may
+//! nest [`MAX_NESTING`] deep. Errors quote at most a short excerpt.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -20,6 +25,14 @@ use serde::Deserialize;
 use thiserror::Error;
 
 use crate::session::Motion6;
+use crate::text::{quoted, short_number};
+
+/// Longest map file read, bytes: maps are a few kilobytes.
+pub const MAX_MAP_BYTES: u64 = 1 << 20;
+
+/// Deepest nesting of arrays and inline tables a map may have (the TOML
+/// parser recurses on each level).
+pub const MAX_NESTING: usize = 32;
 
 /// The default map, compiled in.
 pub const DEFAULT_MAP: &str = include_str!("../../assets/joystick-map.toml");
@@ -273,10 +286,50 @@ impl JoystickMap {
     /// # Errors
     /// [`MapError`] naming the file, and the line for TOML errors.
     pub fn read(path: &Path) -> Result<Self, MapError> {
-        let text = std::fs::read_to_string(path).map_err(|source| MapError::Io {
+        use std::io::Read;
+        let io = |source| MapError::Io {
             path: path.to_path_buf(),
             source,
-        })?;
+        };
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .and_then(|f| f.take(MAX_MAP_BYTES + 1).read_to_end(&mut bytes))
+            .map_err(io)?;
+        if bytes.len() as u64 > MAX_MAP_BYTES {
+            return Err(MapError::Invalid {
+                path: path.to_path_buf(),
+                reason: format!(
+                    "longer than {}: a joystick map is a few kilobytes of TOML",
+                    crate::text::format_bytes(MAX_MAP_BYTES)
+                ),
+            });
+        }
+        Self::parse_bytes(&bytes, path)
+    }
+
+    /// Parses and validates map bytes (UTF-8 TOML, lines ended by LF, CRLF
+    /// or CR); `path` names it in errors.
+    ///
+    /// # Errors
+    /// [`MapError::Invalid`] for bytes that are not UTF-8 (naming line and
+    /// column), bad TOML or values out of range.
+    pub fn parse_bytes(bytes: &[u8], path: &Path) -> Result<Self, MapError> {
+        let bad = |reason: String| MapError::Invalid {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let mut text = String::with_capacity(bytes.len());
+        for (k, line) in crate::text::split_lines(bytes).enumerate() {
+            let line = std::str::from_utf8(line).map_err(|e| {
+                bad(format!(
+                    "line {}, column {}: not UTF-8 text",
+                    k + 1,
+                    e.valid_up_to() + 1
+                ))
+            })?;
+            text.push_str(line);
+            text.push('\n');
+        }
         Self::parse(&text, path)
     }
 
@@ -289,7 +342,8 @@ impl JoystickMap {
             path: path.to_path_buf(),
             reason,
         };
-        let f: FileMap = toml::from_str(text).map_err(|e| bad(e.to_string()))?;
+        check_nesting(text).map_err(bad)?;
+        let f: FileMap = toml::from_str(text).map_err(|e| bad(toml_error(text, &e)))?;
         if f.version != 1 {
             return Err(bad(format!(
                 "version {} is not supported (this build reads version 1)",
@@ -300,7 +354,10 @@ impl JoystickMap {
             if v.is_finite() && v > 0.0 {
                 Ok(v)
             } else {
-                Err(bad(format!("{what} must be a positive number, not {v}")))
+                Err(bad(format!(
+                    "{what} must be a positive number, not {}",
+                    short_number(v)
+                )))
             }
         };
         let translate_speed = positive("translate_speed", f.translate_speed)?;
@@ -312,7 +369,7 @@ impl JoystickMap {
         };
         let mut profiles = Vec::new();
         for p in f.profile {
-            let here = |what: String| bad(format!("profile `{}`: {what}", p.name));
+            let here = |what: String| bad(format!("profile {}: {what}", quoted(&p.name)));
             if !(1..=2).contains(&p.sticks) {
                 return Err(here(format!("sticks must be 1 or 2, not {}", p.sticks)));
             }
@@ -323,8 +380,10 @@ impl JoystickMap {
             for b in p.bindings {
                 if b.stick >= p.sticks {
                     return Err(here(format!(
-                        "binding of `{}` names stick {} but the profile has {} stick(s)",
-                        b.source, b.stick, p.sticks
+                        "binding of {} names stick {} but the profile has {} stick(s)",
+                        quoted(&b.source),
+                        b.stick,
+                        p.sticks
                     )));
                 }
                 let shape = Shape {
@@ -334,14 +393,15 @@ impl JoystickMap {
                 };
                 if !(0.0..1.0).contains(&shape.dead_zone) {
                     return Err(here(format!(
-                        "dead_zone of `{}` must be in [0, 1), not {}",
-                        b.source, shape.dead_zone
+                        "dead_zone of {} must be in [0, 1), not {}",
+                        quoted(&b.source),
+                        short_number(shape.dead_zone)
                     )));
                 }
                 if !(shape.curve.is_finite() && shape.curve > 0.0 && shape.scale.is_finite()) {
                     return Err(here(format!(
-                        "curve (> 0) or scale of `{}` is out of range",
-                        b.source
+                        "curve (> 0) or scale of {} is out of range",
+                        quoted(&b.source)
                     )));
                 }
                 bindings.push(Binding {
@@ -412,6 +472,75 @@ impl JoystickMap {
             rotate: clamp(r) * self.rotate_speed.to_radians(),
         }
     }
+}
+
+/// A TOML error as a short message: line and column, what is wrong (cut
+/// short: the parser's own message may quote a whole value), and an
+/// excerpt of the line.
+fn toml_error(text: &str, e: &toml::de::Error) -> String {
+    let message: String = {
+        let m = e.message().trim();
+        match m.char_indices().nth(2 * crate::text::EXCERPT_CHARS) {
+            Some((cut, _)) => format!("{}…", &m[..cut]),
+            None => m.to_string(),
+        }
+    };
+    let Some(span) = e.span() else {
+        return message;
+    };
+    let at = span.start.min(text.len());
+    let before = text.get(..at).unwrap_or_default();
+    let line = before.matches('\n').count() + 1;
+    let start = before.rfind('\n').map_or(0, |i| i + 1);
+    let end = text[start..].find('\n').map_or(text.len(), |i| start + i);
+    let column = crate::text::column_of(&text[start..end], at - start);
+    format!(
+        "line {line}, column {column}: {message} (in {})",
+        crate::text::excerpt(&text[start..end])
+    )
+}
+
+/// Refuses arrays and inline tables nested deeper than [`MAX_NESTING`],
+/// looking past strings and comments.
+fn check_nesting(text: &str) -> Result<(), String> {
+    let mut depth = 0usize;
+    let mut line = 1;
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\n' => line += 1,
+            '#' => {
+                while chars.peek().is_some_and(|c| *c != '\n') {
+                    chars.next();
+                }
+            }
+            '"' | '\'' => {
+                // A string to its closing quote (escapes in basic strings;
+                // multi-line strings are runs of such strings and their
+                // newlines count alike).
+                while let Some(d) = chars.next() {
+                    if d == '\n' {
+                        line += 1;
+                    } else if d == '\\' && c == '"' {
+                        chars.next();
+                    } else if d == c {
+                        break;
+                    }
+                }
+            }
+            '[' | '{' => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Err(format!(
+                        "line {line}: arrays and tables nest deeper than {MAX_NESTING} levels"
+                    ));
+                }
+            }
+            ']' | '}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

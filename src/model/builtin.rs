@@ -15,7 +15,7 @@
 
 use glam::DVec3;
 
-use super::{AtomInfo, Molecule, RadiiSet, element::is_polar};
+use super::{AtomInfo, Label, Molecule, RadiiSet, element::is_polar};
 
 /// Ring radius (centre of ring to centre of its spheres), Å.
 pub const RING_RADIUS: f64 = 5.0;
@@ -35,12 +35,12 @@ pub const START_OFFSET: DVec3 = DVec3::new(0.0, 0.0, -25.0);
 fn carbon(serial: i64, name: String, residue: &str, chain: &str, radii: RadiiSet) -> AtomInfo {
     AtomInfo {
         serial,
-        name,
-        residue: residue.to_string(),
+        name: name.into(),
+        residue: residue.into(),
         seq: 1,
-        insertion: String::new(),
-        chain: chain.to_string(),
-        element: "C".to_string(),
+        insertion: Label::EMPTY,
+        chain: chain.into(),
+        element: "C".into(),
         radius: radii.radius("C").unwrap_or(1.7),
         polar: is_polar("C"),
         hetero: false,

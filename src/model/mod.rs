@@ -11,6 +11,7 @@
 pub mod builtin;
 pub mod element;
 pub mod error;
+pub mod label;
 pub mod molecule;
 pub mod pdb;
 pub mod sdf;
@@ -24,8 +25,11 @@ use serde::Serialize;
 
 pub use element::RadiiSet;
 pub use error::LoadError;
+pub use label::Label;
 pub use molecule::{AtomInfo, AttachedHydrogens, Molecule};
-pub use select::{LigandSpec, receptor_only, split_complex};
+pub use select::{
+    LigandSpec, receptor_only, receptor_only_owned, split_complex, split_complex_owned,
+};
 
 /// Whether hydrogens are kept when loading.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -50,6 +54,29 @@ pub struct LoadOptions {
     /// For SDF files: which record (1-based); the first when `None`. Other
     /// formats have no records and refuse one ([`LoadError::NotRecords`]).
     pub sdf_record: Option<usize>,
+    /// Most bytes a gzipped file may decompress to; past it the file is
+    /// refused ([`LoadError::TooLarge`]). `None`: the environment variable
+    /// [`DECOMPRESSED_LIMIT_VAR`] when it holds a size, else
+    /// [`crate::text::DEFAULT_DECOMPRESSED_LIMIT`].
+    pub decompressed_limit: Option<u64>,
+}
+
+/// The environment variable that sets the decompressed-size limit of
+/// [`LoadOptions`] left at `None` (a size: `4GiB`, `500M`, `1000000`).
+pub const DECOMPRESSED_LIMIT_VAR: &str = "BUMP_MAX_DECOMPRESSED";
+
+impl LoadOptions {
+    /// The decompressed-size limit in force (see
+    /// [`field@LoadOptions::decompressed_limit`]); a variable that does not
+    /// hold a size is passed over (the command line refuses it first).
+    pub fn max_decompressed(&self) -> u64 {
+        self.decompressed_limit
+            .or_else(|| {
+                let v = std::env::var(DECOMPRESSED_LIMIT_VAR).ok()?;
+                crate::text::parse_byte_size(&v).ok()
+            })
+            .unwrap_or(crate::text::DEFAULT_DECOMPRESSED_LIMIT)
+    }
 }
 
 /// Every kept atom of a file's first model, in file order.
@@ -178,7 +205,7 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
             hydrogens: Hydrogens::Keep,
             ..opts.clone()
         };
-        let mut loaded = pdb::load_pdbtbx(path, &keep)?;
+        let mut loaded = pdb::load_pdb_or_mmcif(path, &keep)?;
         if opts.hydrogens == Hydrogens::Drop {
             let dropped = set_hydrogens_apart(&mut loaded.structure);
             if loaded.structure.atoms.is_empty() {
@@ -310,7 +337,7 @@ pub fn set_hydrogens_apart(s: &mut Structure) -> usize {
         );
         if !kept_residues.contains(&key) && seen.insert(key) {
             hydrogen_only.push((
-                a.residue.clone(),
+                a.residue.to_string(),
                 format!("{}/{}{}", a.chain, a.seq, a.insertion),
             ));
         }
@@ -354,7 +381,9 @@ pub const WATER_NAMES: &[&str] = &["HOH", "WAT", "H2O", "DOD", "TIP", "TIP3", "S
 
 /// True when `residue` names a water.
 pub fn is_water(residue: &str) -> bool {
-    WATER_NAMES.contains(&residue.trim().to_ascii_uppercase().as_str())
+    // No allocation: it runs once an atom when a structure is split.
+    let r = residue.trim();
+    WATER_NAMES.iter().any(|w| w.eq_ignore_ascii_case(r))
 }
 
 /// `../shared/pdb` for unit tests, or `None` with a skip message when it is

@@ -17,25 +17,30 @@ use std::sync::{Arc, OnceLock};
 use glam::{DVec3, Vec3};
 use serde::Serialize;
 
+use super::label::{AtomName, ChainId, ElementSymbol, InsertionCode, ResidueName};
 use crate::chem::{Bond, Chemistry};
 
 /// One atom's identity, as the file gave it, plus its radius.
+///
+/// The labels are [`Label`](super::Label)s, kept inline (48 bytes an atom in all): they
+/// read as `&str` (deref, `Display`, comparison with `str`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct AtomInfo {
     /// The file's atom serial number (PDB/mmCIF), or the 1-based record order (SDF).
     pub serial: i64,
     /// Atom name (`CA`, `N1`, ...); for SDF, element plus index (`C3`).
-    pub name: String,
-    /// Residue name (`TOP`, `ALA`); for SDF, the molecule's name or `LIG`.
-    pub residue: String,
+    pub name: AtomName,
+    /// Residue name (`TOP`, `ALA`); for SDF, the molecule's name (cut to
+    /// 8 bytes) or `LIG`.
+    pub residue: ResidueName,
     /// Residue sequence number (0 for SDF).
     pub seq: i64,
     /// Insertion code, empty when none.
-    pub insertion: String,
+    pub insertion: InsertionCode,
     /// Chain identifier, empty when none.
-    pub chain: String,
+    pub chain: ChainId,
     /// Element symbol, normalised (`C`, `Cl`).
-    pub element: String,
+    pub element: ElementSymbol,
     /// Van der Waals radius in Å.
     pub radius: f32,
     /// True for N and O (possible hydrogen-bond partners).
@@ -217,10 +222,10 @@ impl Molecule {
 pub(crate) fn test_carbon(serial: i64) -> AtomInfo {
     AtomInfo {
         serial,
-        name: format!("C{serial}"),
+        name: format!("C{serial}").into(),
         residue: "X".into(),
         seq: 1,
-        insertion: String::new(),
+        insertion: InsertionCode::EMPTY,
         chain: "A".into(),
         element: "C".into(),
         radius: 1.7,

@@ -35,9 +35,10 @@ use glam::DVec3;
 use super::element;
 use super::pdb::{RadiusLookup, file_name, read_bytes};
 use super::{
-    AtomInfo, BondOrder, FileBond, FileChemistry, Hydrogens, LoadError, LoadOptions, Loaded,
+    AtomInfo, BondOrder, FileBond, FileChemistry, Hydrogens, Label, LoadError, LoadOptions, Loaded,
     MAX_FILE_COORDINATE, Structure,
 };
+use crate::text::excerpt;
 
 /// Longest residue label taken from a record's title line.
 const MAX_RESIDUE_CHARS: usize = 8;
@@ -50,7 +51,7 @@ const MAX_RESIDUE_CHARS: usize = 8;
 /// [`LoadError::NoAtoms`] for a file without records or a record without atoms
 /// left.
 pub fn load_sdf(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
-    let bytes = read_bytes(path)?;
+    let bytes = read_bytes(path, opts.max_decompressed())?;
     let text = String::from_utf8_lossy(&bytes);
     let label = path.display().to_string();
     let mut loaded = parse_sdf(&text, &label, opts)?;
@@ -64,14 +65,12 @@ pub fn load_sdf(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
 /// # Errors
 /// As [`load_sdf`], less the I/O error.
 pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loaded, LoadError> {
-    let lines: Vec<&str> = text
-        .lines()
-        .map(|l| l.strip_suffix('\r').unwrap_or(l))
-        .collect();
+    let lines: Vec<&str> = crate::text::lines::split_str(text).collect();
     let records = split_records(&lines);
     let err = |line: Option<usize>, reason: String| LoadError::Parse {
         path: path_label.to_string(),
         line,
+        column: None,
         reason,
     };
     if records.is_empty() {
@@ -119,14 +118,14 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
         let serial = i + 1;
         atoms.push(AtomInfo {
             serial: i64::try_from(serial).unwrap_or(i64::MAX),
-            name: format!("{element}{serial}"),
-            residue: residue.clone(),
+            name: format!("{element}{serial}").into(),
+            residue: residue.as_str().into(),
             seq: 0,
-            insertion: String::new(),
-            chain: String::new(),
+            insertion: Label::EMPTY,
+            chain: Label::EMPTY,
             radius: lookup.radius(&element),
             polar: element::is_polar(&element),
-            element,
+            element: element.as_str().into(),
             hetero: true,
         });
         positions.push(pos);
@@ -235,6 +234,7 @@ impl Record<'_> {
         LoadError::Parse {
             path: self.label.to_string(),
             line: Some(self.line_no(i)),
+            column: None,
             reason: reason.into(),
         }
     }
@@ -270,10 +270,14 @@ impl Record<'_> {
             .ok_or_else(|| {
                 self.err(
                     3,
-                    format!("malformed counts line (no atom count): {:?}", counts.trim()),
+                    format!(
+                        "malformed counts line (no atom count): {}",
+                        excerpt(counts.trim())
+                    ),
                 )
             })?;
-        let mut atoms = Vec::with_capacity(n_atoms);
+        // Not sized by the count: a counts line may claim 10^18 atoms.
+        let mut atoms = Vec::new();
         for k in 0..n_atoms {
             let i = 4 + k;
             let Some(line) = self.lines.get(i) else {
@@ -292,7 +296,7 @@ impl Record<'_> {
             }
             atoms.push(self.v2000_atom(i, line, k, n_atoms)?);
         }
-        if let Some(next) = self.lines.get(4 + n_atoms)
+        if let Some(next) = self.lines.get(n_atoms.saturating_add(4))
             && looks_like_v2000_atom(next)
         {
             return Err(self.err(
@@ -337,8 +341,8 @@ impl Record<'_> {
             return Err(self.err(
                 i,
                 format!(
-                    "atom line too short (need x, y, z and an element): {:?}",
-                    line.trim()
+                    "atom line too short (need x, y, z and an element): {}",
+                    excerpt(line.trim())
                 ),
             ));
         }
@@ -347,10 +351,10 @@ impl Record<'_> {
             return Err(self.err(
                 i,
                 format!(
-                    "atom {} of {n_atoms}: {:?} is not an element symbol \
+                    "atom {} of {n_atoms}: {} is not an element symbol \
                      (is the atom count on the counts line right?)",
                     k + 1,
-                    fields[3]
+                    excerpt(fields[3])
                 ),
             ));
         }
@@ -365,13 +369,16 @@ impl Record<'_> {
             let value: f64 = text.trim().parse().map_err(|_| {
                 self.err(
                     i,
-                    format!("{name} coordinate is not a number: {:?}", text.trim()),
+                    format!(
+                        "{name} coordinate is not a number: {}",
+                        excerpt(text.trim())
+                    ),
                 )
             })?;
             if !value.is_finite() {
                 return Err(self.err(
                     i,
-                    format!("{name} coordinate is not finite: {:?}", text.trim()),
+                    format!("{name} coordinate is not finite: {}", excerpt(text.trim())),
                 ));
             }
             if value.abs() > MAX_FILE_COORDINATE {
@@ -445,7 +452,7 @@ impl Record<'_> {
             .ok_or_else(|| {
                 self.err(
                     *counts_i,
-                    format!("malformed COUNTS line: {:?}", counts.trim()),
+                    format!("malformed COUNTS line: {}", excerpt(counts.trim())),
                 )
             })?;
         let Some(begin) = logical.iter().position(|(_, t)| upper(t) == "BEGIN ATOM") else {
@@ -457,7 +464,8 @@ impl Record<'_> {
                 format!("COUNTS says {n_atoms} atoms but there is no BEGIN ATOM block"),
             ));
         };
-        let mut atoms = Vec::with_capacity(n_atoms);
+        // Not sized by COUNTS: it may claim 10^18 atoms.
+        let mut atoms = Vec::new();
         for (i, text) in &logical[begin + 1..] {
             if upper(text) == "END ATOM" {
                 if atoms.len() != n_atoms {
@@ -485,8 +493,8 @@ impl Record<'_> {
                 return Err(self.err(
                     *i,
                     format!(
-                        "atom line too short (need index, type, x, y, z): {:?}",
-                        text.trim()
+                        "atom line too short (need index, type, x, y, z): {}",
+                        excerpt(text.trim())
                     ),
                 ));
             }
@@ -642,7 +650,10 @@ impl Record<'_> {
             let &[a, b, t] = fields.as_slice() else {
                 out.warnings.push(self.warning(
                     i,
-                    format!("malformed bond line {:?}; it is left out", line.trim()),
+                    format!(
+                        "malformed bond line {}; it is left out",
+                        excerpt(line.trim())
+                    ),
                 ));
                 continue;
             };
@@ -733,7 +744,10 @@ impl Record<'_> {
                 let &[_, t, a, b] = nums.as_slice() else {
                     out.warnings.push(self.warning(
                         *i,
-                        format!("malformed bond line {:?}; it is left out", text.trim()),
+                        format!(
+                            "malformed bond line {}; it is left out",
+                            excerpt(text.trim())
+                        ),
                     ));
                     continue;
                 };

@@ -24,7 +24,7 @@ use std::str::FromStr;
 
 use glam::DVec3;
 
-use super::{AtomInfo, LoadError, Molecule, Structure, is_water};
+use super::{AtomInfo, FileBond, FileChemistry, LoadError, Molecule, Structure, is_water};
 use crate::chem::Bond;
 
 /// Hetero residue names `auto` never picks: ions and small inorganic groups,
@@ -437,23 +437,33 @@ pub fn molecule_from(s: &Structure, indices: &[usize], name: String) -> Molecule
     let atoms: Vec<AtomInfo> = indices.iter().map(|&i| s.atoms[i].clone()).collect();
     let positions: Vec<DVec3> = indices.iter().map(|&i| s.positions[i]).collect();
     let mut mol = Molecule::new(name, atoms, &positions);
-    let mut new_index = vec![u32::MAX; s.atoms.len()];
+    attach_file_chemistry(&mut mol, &s.bonds, &s.file_chem, s.atoms.len(), indices);
+    mol
+}
+
+/// Gives `mol`, made of the atoms `indices` (ascending) of a structure of
+/// `total` atoms, the structure's `bonds` among them, their formal charges
+/// and the hydrogens bonded to them.
+fn attach_file_chemistry(
+    mol: &mut Molecule,
+    bonds: &[FileBond],
+    fc: &FileChemistry,
+    total: usize,
+    indices: &[usize],
+) {
+    let mut new_index = vec![u32::MAX; total];
     for (k, &i) in indices.iter().enumerate() {
         new_index[i] = u32::try_from(k).unwrap_or(u32::MAX);
     }
-    mol.file_bonds = s
-        .bonds
+    mol.file_bonds = bonds
         .iter()
         .filter(|b| new_index[b.a] != u32::MAX && new_index[b.b] != u32::MAX)
         .map(|b| Bond::new(new_index[b.a], new_index[b.b], b.order))
         .collect();
-    let fc = &s.file_chem;
-    if fc.formal_charges.len() == s.atoms.len()
-        && indices.iter().any(|&i| fc.formal_charges[i] != 0)
-    {
+    if fc.formal_charges.len() == total && indices.iter().any(|&i| fc.formal_charges[i] != 0) {
         mol.formal_charges = indices.iter().map(|&i| fc.formal_charges[i]).collect();
     }
-    mol.bonds_complete = fc.bonds_complete && indices.len() == s.atoms.len();
+    mol.bonds_complete = fc.bonds_complete && indices.len() == total;
     mol.from_sdf = fc.from_sdf;
     for h in &fc.hydrogens {
         let Some(p) = h.parent.filter(|&p| new_index[p] != u32::MAX) else {
@@ -469,7 +479,6 @@ pub fn molecule_from(s: &Structure, indices: &[usize], name: String) -> Molecule
             &h.atom.name,
         );
     }
-    mol
 }
 
 /// The whole structure as a receptor: every atom except waters, named
@@ -496,6 +505,102 @@ pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
         });
     }
     Ok(molecule_from(s, &indices, format!("{} receptor", s.name)))
+}
+
+/// [`split_complex`] taking the structure: its atoms move into the two
+/// molecules rather than being copied (the receptor's in place), so that a
+/// large structure is not held twice while it is split.
+///
+/// # Errors
+/// As [`split_complex`].
+pub fn split_complex_owned(
+    s: Structure,
+    spec: &LigandSpec,
+) -> Result<(Molecule, Molecule), LoadError> {
+    let (chosen, label) = {
+        let groups = residue_groups(&s);
+        let g = &groups[pick(&s, &groups, spec)?];
+        (g.atoms.clone(), g.label())
+    };
+    let mut in_drug = vec![false; s.atoms.len()];
+    for &i in &chosen {
+        in_drug[i] = true;
+    }
+    let receptor_indices: Vec<usize> = (0..s.atoms.len())
+        .filter(|&i| !in_drug[i] && !is_water(&s.atoms[i].residue))
+        .collect();
+    drop(in_drug);
+    if receptor_indices.is_empty() {
+        return Err(LoadError::Ligand {
+            path: s.name,
+            reason: format!(
+                "nothing is left for the receptor after taking {label} as the drug and removing waters"
+            ),
+        });
+    }
+    let drug = molecule_from(&s, &chosen, format!("{} {label}", s.name));
+    let receptor = molecule_moved(s, &receptor_indices, |name| format!("{name} receptor"));
+    Ok((receptor, drug))
+}
+
+/// [`molecule_from`] taking the structure: the atoms `indices` (ascending)
+/// move into the molecule in place rather than being copied.
+fn molecule_moved(s: Structure, indices: &[usize], name: impl Fn(&str) -> String) -> Molecule {
+    let Structure {
+        name: file,
+        mut atoms,
+        mut positions,
+        bonds,
+        file_chem,
+        ..
+    } = s;
+    let total = atoms.len();
+    let mut keep = vec![false; total];
+    for &i in indices {
+        keep[i] = true;
+    }
+    let mut k = 0;
+    atoms.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    let mut k = 0;
+    positions.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    drop(keep);
+    let mut mol = Molecule::new(name(&file), atoms, &positions);
+    drop(positions);
+    attach_file_chemistry(&mut mol, &bonds, &file_chem, total, indices);
+    mol
+}
+
+/// [`receptor_only`] taking the structure: its atoms move into the
+/// molecule in place rather than being copied.
+///
+/// # Errors
+/// As [`receptor_only`].
+pub fn receptor_only_owned(s: Structure) -> Result<Molecule, LoadError> {
+    let indices: Vec<usize> = (0..s.atoms.len())
+        .filter(|&i| !is_water(&s.atoms[i].residue))
+        .collect();
+    if indices.is_empty() {
+        return Err(if s.atoms.is_empty() {
+            LoadError::NoAtoms {
+                path: s.name,
+                dropped_hydrogens: 0,
+            }
+        } else {
+            LoadError::OnlyWaters {
+                waters: s.atoms.len(),
+                path: s.name,
+            }
+        });
+    }
+    Ok(molecule_moved(s, &indices, |name| {
+        format!("{name} receptor")
+    }))
 }
 
 #[cfg(test)]

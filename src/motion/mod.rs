@@ -2,6 +2,7 @@
 //! that move-to-touch sweeps along, and the view's rocking.
 
 pub mod pose;
+pub mod range;
 pub mod rock;
 pub mod screw;
 

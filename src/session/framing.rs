@@ -154,7 +154,7 @@ mod tests {
             name: name.into(),
             residue: "X".into(),
             seq: 1,
-            insertion: String::new(),
+            insertion: Default::default(),
             chain: "A".into(),
             element: "C".into(),
             radius: 1.7,

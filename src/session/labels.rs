@@ -120,7 +120,7 @@ mod tests {
             name: name.into(),
             residue: res.into(),
             seq,
-            insertion: String::new(),
+            insertion: Default::default(),
             chain: chain.into(),
             element: "N".into(),
             radius: 1.55,

@@ -30,6 +30,15 @@
 //! `~CHECK` is the FNV-1a hash (32-bit, hex) of the line before ` ~`, so a
 //! damaged line is named. A log without its `end` line, or whose count
 //! disagrees, was cut short and is refused.
+//!
+//! # Reading
+//!
+//! Lines may end with LF, CRLF or a lone CR. A line that is not UTF-8 is
+//! named with the column of its first bad byte; every message quotes at
+//! most a short excerpt of the line ([`crate::text::excerpt`]). Time steps,
+//! positions and moves go through the range check every command uses
+//! ([`crate::motion::range`]): a step of 1e308 s is refused, not replayed
+//! as infinite time. A log is at most [`MAX_LOG_BYTES`] long.
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -41,6 +50,13 @@ use thiserror::Error;
 use super::{Command, FrameInput, KeyEvent, Motion6, StepKey, StepSize};
 use crate::collide::Response;
 use crate::motion::Pose;
+use crate::motion::range::{check_displacement, check_position, check_seconds};
+use crate::text::{excerpt, format_bytes, quoted, split_lines};
+
+/// Longest log read, bytes: some 3 million frames of moving input (14
+/// hours at 60 frames a second). Each frame read takes about 330 bytes,
+/// so the limit also bounds the memory a log can take.
+pub const MAX_LOG_BYTES: u64 = 256 << 20;
 
 /// The format version this build writes (it reads this and every earlier one).
 pub const VERSION: u32 = 2;
@@ -129,11 +145,45 @@ impl SessionLog {
     /// # Errors
     /// [`LogError`] naming the file and line of the first problem.
     pub fn read(path: &Path) -> Result<Self, LogError> {
-        let text = std::fs::read_to_string(path).map_err(|source| LogError::Io {
+        use std::io::Read;
+        let io = |source| LogError::Io {
             path: path.to_path_buf(),
             source,
-        })?;
-        Self::parse(&text, path)
+        };
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .and_then(|f| f.take(MAX_LOG_BYTES + 1).read_to_end(&mut bytes))
+            .map_err(io)?;
+        if bytes.len() as u64 > MAX_LOG_BYTES {
+            return Err(io(std::io::Error::other(format!(
+                "longer than {}, the most a session log may be",
+                format_bytes(MAX_LOG_BYTES)
+            ))));
+        }
+        Self::parse_bytes(&bytes, path)
+    }
+
+    /// Parses log bytes; `path` names the source in errors. Lines may end
+    /// with LF, CRLF or CR; each must be UTF-8.
+    ///
+    /// # Errors
+    /// As [`SessionLog::parse`], and [`LogError::Line`] naming the line and
+    /// column of bytes that are not UTF-8.
+    pub fn parse_bytes(bytes: &[u8], path: &Path) -> Result<Self, LogError> {
+        let lines = split_lines(bytes).enumerate().map(|(k, l)| {
+            std::str::from_utf8(l).map_err(|e| LogError::Line {
+                path: path.to_path_buf(),
+                line: k + 1,
+                reason: format!(
+                    "not UTF-8 text: byte {} at column {} ({})",
+                    l.get(e.valid_up_to())
+                        .map_or_else(String::new, |b| format!("0x{b:02X}")),
+                    e.valid_up_to() + 1,
+                    excerpt(&String::from_utf8_lossy(l))
+                ),
+            })
+        });
+        Self::parse_lines(lines, path)
     }
 
     /// Parses log text; `path` names the source in errors.
@@ -142,21 +192,29 @@ impl SessionLog {
     /// [`LogError::Line`] for a bad line, [`LogError::Truncated`] when the
     /// `end` line is missing.
     pub fn parse(text: &str, path: &Path) -> Result<Self, LogError> {
+        Self::parse_bytes(text.as_bytes(), path)
+    }
+
+    /// Parses log lines (each already checked to be text).
+    fn parse_lines<'a>(
+        lines: impl Iterator<Item = Result<&'a str, LogError>>,
+        path: &Path,
+    ) -> Result<Self, LogError> {
         let err = |line: usize, reason: String| LogError::Line {
             path: path.to_path_buf(),
             line,
             reason,
         };
         let mut log = SessionLog::default();
-        let mut lines = text.lines().enumerate().map(|(k, l)| (k + 1, l));
-        match lines.next() {
+        let mut lines = lines.enumerate().map(|(k, l)| l.map(|l| (k + 1, l)));
+        match lines.next().transpose()? {
             Some((_, l)) if is_header(l) => {}
             Some((n, l)) if l.starts_with("bump-log ") => {
                 return Err(err(
                     n,
                     format!(
-                        "log version `{}` is not supported (this build reads {OLDEST_VERSION} to {VERSION})",
-                        &l[9..]
+                        "log version {} is not supported (this build reads {OLDEST_VERSION} to {VERSION})",
+                        quoted(&l[9..])
                     ),
                 ));
             }
@@ -169,7 +227,8 @@ impl SessionLog {
             None => return Err(err(1, "empty file: not a bump session log".into())),
         }
         let mut last = 1;
-        for (n, raw) in lines {
+        for line in lines {
+            let (n, raw) = line?;
             last = n;
             let line = raw.trim_end();
             if line.is_empty() || line.starts_with('#') {
@@ -195,7 +254,10 @@ impl SessionLog {
                 }
                 "end" => {
                     let count: usize = rest.trim().parse().map_err(|_| {
-                        err(n, format!("`end` needs the frame count, found `{rest}`"))
+                        err(
+                            n,
+                            format!("`end` needs the frame count, found {}", quoted(rest)),
+                        )
                     })?;
                     if count != log.frames.len() {
                         return Err(err(
@@ -208,7 +270,7 @@ impl SessionLog {
                     }
                     return Ok(log);
                 }
-                other => return Err(err(n, format!("unknown line kind `{other}`"))),
+                other => return Err(err(n, format!("unknown line kind {}", quoted(other)))),
             }
         }
         Err(LogError::Truncated {
@@ -241,7 +303,8 @@ fn checked(line: &str) -> Result<&str, String> {
     let (body, check) = line
         .rsplit_once(" ~")
         .ok_or("the line has no ` ~` check value: it was cut or edited")?;
-    let want = u32::from_str_radix(check, 16).map_err(|_| format!("bad check value `{check}`"))?;
+    let want =
+        u32::from_str_radix(check, 16).map_err(|_| format!("bad check value {}", quoted(check)))?;
     if fnv1a(body) != want {
         return Err("the line is damaged (its check value does not match)".into());
     }
@@ -249,30 +312,39 @@ fn checked(line: &str) -> Result<&str, String> {
 }
 
 fn num(s: &str) -> Result<f64, String> {
-    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("{} is not a number", quoted(s)))?;
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(format!("`{s}` is not a finite number"))
+        Err(format!("{} is not a finite number", quoted(s)))
     }
 }
 
 fn nums<const N: usize>(s: &str) -> Result<[f64; N], String> {
-    let parts: Vec<&str> = s.split(',').collect();
-    if parts.len() != N {
-        return Err(format!("`{s}`: expected {N} comma-separated numbers"));
-    }
     let mut out = [0.0; N];
-    for (o, p) in out.iter_mut().zip(parts) {
-        *o = num(p)?;
+    let mut parts = s.split(',');
+    for o in &mut out {
+        *o = num(parts.next().unwrap_or_default()).map_err(|e| format!("{}: {e}", quoted(s)))?;
+    }
+    if parts.next().is_some() {
+        return Err(format!(
+            "{}: expected {N} comma-separated numbers",
+            quoted(s)
+        ));
     }
     Ok(out)
 }
 
+/// A motion: translation (Å, or Å per second) in the range of a move,
+/// rotation finite.
 fn motion(s: &str) -> Result<Motion6, String> {
     let [a, b, c, d, e, f] = nums::<6>(s)?;
+    let translate =
+        check_displacement(DVec3::new(a, b, c)).map_err(|e| format!("translation {e}"))?;
     Ok(Motion6 {
-        translate: DVec3::new(a, b, c),
+        translate,
         rotate: DVec3::new(d, e, f),
     })
 }
@@ -281,14 +353,12 @@ fn parse_frame(body: &str) -> Result<LogFrame, String> {
     let mut parts = body.split(' ');
     parts.next(); // "f"
     let dt = num(parts.next().ok_or("a frame needs its time step")?)?;
-    if dt < 0.0 {
-        return Err(format!("negative time step {dt}"));
-    }
+    let dt = check_seconds(dt).map_err(|e| format!("time step {e}"))?;
     let mut input = FrameInput::default();
     for p in parts {
         let (k, v) = p
             .split_once('=')
-            .ok_or_else(|| format!("`{p}` is not FIELD=VALUE"))?;
+            .ok_or_else(|| format!("{} is not FIELD=VALUE", quoted(p)))?;
         match k {
             "v" => input.velocity = motion(v)?,
             "n" => input.nudge = motion(v)?,
@@ -299,7 +369,7 @@ fn parse_frame(body: &str) -> Result<LogFrame, String> {
             "z" => input.zoom = num(v)?,
             "c" => input.commands.push(parse_command(v)?),
             "k" => input.keys.push(parse_key(v)?),
-            _ => return Err(format!("unknown frame field `{k}`")),
+            _ => return Err(format!("unknown frame field {}", quoted(k))),
         }
     }
     Ok(LogFrame { dt, input })
@@ -312,7 +382,7 @@ fn parse_final(body: &str, expected: usize) -> Result<Pose, String> {
     }
     let b: usize = f[1]
         .parse()
-        .map_err(|_| format!("`{}` is not a molecule index", f[1]))?;
+        .map_err(|_| format!("{} is not a molecule index", quoted(f[1])))?;
     if b != expected {
         return Err(format!("final pose {b} out of order (expected {expected})"));
     }
@@ -321,7 +391,12 @@ fn parse_final(body: &str, expected: usize) -> Result<Pose, String> {
         .map(|s| num(s))
         .collect::<Result<Vec<_>, _>>()?;
     let q = DQuat::from_xyzw(v[3], v[4], v[5], v[6]);
-    Ok(Pose::new(q, DVec3::new(v[0], v[1], v[2])))
+    let length = q.length();
+    if !(length.is_finite() && length > 0.0) {
+        return Err("the final pose's rotation (a quaternion) has no length".into());
+    }
+    let t = check_position(DVec3::new(v[0], v[1], v[2])).map_err(|e| format!("final pose {e}"))?;
+    Ok(Pose::new(q, t))
 }
 
 /// The token a motion key's event is written as: `down:tx+:coarse:0.012`.
@@ -335,7 +410,12 @@ pub fn key_token(e: &KeyEvent) -> String {
 /// # Errors
 /// A message naming the token.
 pub fn parse_key(tok: &str) -> Result<KeyEvent, String> {
-    let bad = || format!("`{tok}` is not a key event (down|up:KEY:SIZE:SECONDS)");
+    let bad = || {
+        format!(
+            "{} is not a key event (down|up:KEY:SIZE:SECONDS)",
+            quoted(tok)
+        )
+    };
     let mut parts = tok.split(':');
     let (Some(what), Some(key), Some(size), Some(at), None) = (
         parts.next(),
@@ -353,10 +433,7 @@ pub fn parse_key(tok: &str) -> Result<KeyEvent, String> {
     };
     let key = StepKey::parse(key).ok_or_else(bad)?;
     let size = StepSize::parse(size).ok_or_else(bad)?;
-    let at = num(at)?;
-    if at < 0.0 {
-        return Err(format!("`{tok}`: negative key time"));
-    }
+    let at = check_seconds(num(at)?).map_err(|e| format!("{}: key time {e}", quoted(tok)))?;
     Ok(KeyEvent {
         key,
         size,
@@ -407,7 +484,7 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
         if arg.is_empty() {
             Ok(c)
         } else {
-            Err(format!("command `{name}` takes no argument"))
+            Err(format!("command {} takes no argument", quoted(name)))
         }
     };
     match name {
@@ -416,11 +493,11 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
         "select" => arg
             .parse()
             .map(Command::Select)
-            .map_err(|_| format!("`{tok}`: select needs a molecule index")),
+            .map_err(|_| format!("{}: select needs a molecule index", quoted(tok))),
         "collision" => no_arg(Command::ToggleCollision),
         "response" => Response::parse(arg)
             .map(Command::SetResponse)
-            .ok_or_else(|| format!("`{tok}`: unknown response")),
+            .ok_or_else(|| format!("{}: unknown response", quoted(tok))),
         "cycle-response" => no_arg(Command::CycleResponse),
         "space" => no_arg(Command::ToggleSpace),
         "undo" => no_arg(Command::Undo),
@@ -432,8 +509,10 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
         "fit-all" => no_arg(Command::FitAll),
         "move" => {
             let [tx, ty, tz, ax, ay, az, degrees] = nums::<7>(arg)?;
+            let translate =
+                check_displacement(DVec3::new(tx, ty, tz)).map_err(|e| format!("move {e}"))?;
             Ok(Command::MoveBy {
-                translate: DVec3::new(tx, ty, tz),
+                translate,
                 axis: DVec3::new(ax, ay, az),
                 degrees,
             })
@@ -442,7 +521,7 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
         "rock-more" => no_arg(Command::RockMore),
         "rock-less" => no_arg(Command::RockLess),
         "quit" => no_arg(Command::Quit),
-        _ => Err(format!("unknown command `{tok}`")),
+        _ => Err(format!("unknown command {}", quoted(tok))),
     }
 }
 

@@ -34,10 +34,10 @@ pub use bump::rng::Rng;
 pub fn atom(serial: i64, element: &str, radius: f32) -> AtomInfo {
     AtomInfo {
         serial,
-        name: format!("{element}{serial}"),
+        name: format!("{element}{serial}").into(),
         residue: "RND".into(),
         seq: 1,
-        insertion: String::new(),
+        insertion: Default::default(),
         chain: "A".into(),
         element: element.into(),
         radius,

@@ -44,6 +44,7 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
         radii: RadiiSet::Thesis,
         hydrogens: Hydrogens::Drop,
         sdf_record: None,
+        decompressed_limit: None,
     };
     let mut grid_sum = (0.0, 0.0, 0usize);
     for (name, atoms, hashed, grid, file) in ROWS {

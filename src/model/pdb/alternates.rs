@@ -1,71 +1,93 @@
 //! Alternate locations: one atom per site.
 //!
-//! `pdbtbx` copies the atoms without an alt-loc into every alternate
-//! conformer of their residue (dividing their occupancy). The copies are
-//! recognised (same serial, name and position) and kept once; per atom name
-//! the alternate with the highest occupancy wins, ties going to the one that
-//! appears first in the file, which also resolves microheterogeneity
-//! (alternates with different residue names). Afterwards the atoms are put
-//! back in serial order when their serials are distinct.
+//! In a residue where any atom has an alternate-location code, the atoms
+//! sharing a name compete: the one with the highest occupancy is kept, ties
+//! going to the one that appears first in the file. Atoms without a code
+//! have no rival and stay; alternates with different residue names
+//! (microheterogeneity) compete as one residue. A residue is its chain,
+//! sequence number and insertion code.
 
+use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
 
-use pdbtbx::Atom;
+use crate::model::AtomInfo;
+use crate::model::label::{AtomName, ChainId, InsertionCode};
 
-/// One atom with the hierarchy it came from.
-pub(super) struct Site<'a> {
-    pub(super) atom: &'a Atom,
-    pub(super) chain: &'a str,
-    pub(super) residue: &'a str,
-    pub(super) seq: isize,
-    pub(super) insertion: &'a str,
-}
+/// A residue: chain, sequence number, insertion code.
+type Residue = (ChainId, i64, InsertionCode);
 
-/// Keeps one atom per site among `sites[first..]` (one residue's conformers):
-/// copies of shared atoms are dropped, then per atom name the highest
-/// occupancy wins, ties to the earliest.
-pub(super) fn resolve_alternates(sites: &mut Vec<Site<'_>>, first: usize) {
-    let tail: Vec<Site<'_>> = sites.drain(first..).collect();
-    let mut seen: HashSet<(usize, &str, [u64; 3])> = HashSet::new();
-    let mut best: Vec<Site<'_>> = Vec::new();
-    let mut slot: HashMap<&str, usize> = HashMap::new();
-    for site in tail {
-        let a = site.atom;
-        let (x, y, z) = a.pos();
-        if !seen.insert((
-            a.serial_number(),
-            a.name(),
-            [x.to_bits(), y.to_bits(), z.to_bits()],
-        )) {
+/// Which of `atoms` to keep (`occupancy` and `alt`, the alternate-location
+/// code or 0, by atom): all of them unless some have alternates, then one
+/// per name in each residue that does.
+pub(super) fn one_per_site(atoms: &[AtomInfo], occupancy: &[f32], alt: &[u8]) -> Vec<bool> {
+    let mut keep = vec![true; atoms.len()];
+    let residue = |a: &AtomInfo| -> Residue { (a.chain, a.seq, a.insertion) };
+    let with_alternates: HashSet<Residue> = atoms
+        .iter()
+        .zip(alt)
+        .filter(|(_, code)| **code != 0)
+        .map(|(a, _)| residue(a))
+        .collect();
+    if with_alternates.is_empty() {
+        return keep;
+    }
+    let mut best: HashMap<(Residue, AtomName), usize> = HashMap::new();
+    for (i, a) in atoms.iter().enumerate() {
+        let r = residue(a);
+        if !with_alternates.contains(&r) {
             continue;
         }
-        match slot.get(a.name()) {
-            Some(&i) => {
-                if a.occupancy() > best[i].atom.occupancy() {
-                    best[i] = site;
-                }
+        match best.entry((r, a.name)) {
+            Entry::Vacant(e) => {
+                e.insert(i);
             }
-            None => {
-                slot.insert(a.name(), best.len());
-                best.push(site);
+            Entry::Occupied(mut e) => {
+                let j = *e.get();
+                if occupancy.get(i) > occupancy.get(j) {
+                    keep[j] = false;
+                    e.insert(i);
+                } else {
+                    keep[i] = false;
+                }
             }
         }
     }
-    sites.extend(best);
+    keep
 }
 
-/// Sorts by serial number when the serials are all distinct (file order in an
-/// ordinary file); otherwise leaves `pdbtbx`'s chain-grouped order.
-pub(super) fn order_by_serial(sites: &mut [Site<'_>]) {
-    if sites
-        .windows(2)
-        .all(|w| w[0].atom.serial_number() < w[1].atom.serial_number())
-    {
-        return;
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
+    use super::*;
+    use crate::model::molecule::test_carbon;
+
+    fn atom(name: &str, seq: i64) -> AtomInfo {
+        AtomInfo {
+            name: name.into(),
+            seq,
+            ..test_carbon(1)
+        }
     }
-    let mut serials: Vec<usize> = sites.iter().map(|s| s.atom.serial_number()).collect();
-    serials.sort_unstable();
-    if serials.windows(2).all(|w| w[0] != w[1]) {
-        sites.sort_by_key(|s| s.atom.serial_number());
+
+    #[test]
+    fn the_highest_occupancy_wins_ties_to_the_first() {
+        let atoms = [
+            atom("N", 1),
+            atom("CB", 1),
+            atom("CB", 1),
+            atom("OG", 1),
+            atom("OG", 1),
+            atom("CB", 2),
+            atom("CB", 2),
+        ];
+        let occupancy = [1.0, 0.3, 0.7, 0.5, 0.5, 1.0, 1.0];
+        let alt = [0, b'A', b'B', b'A', b'B', 0, 0];
+        // Residue 2 has no alternates: its two CBs both stay.
+        assert_eq!(
+            one_per_site(&atoms, &occupancy, &alt),
+            [true, false, true, true, false, true, true]
+        );
+        assert!(one_per_site(&atoms, &occupancy, &[0; 7]).iter().all(|k| *k));
     }
 }

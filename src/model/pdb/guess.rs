@@ -45,14 +45,35 @@ pub fn guess_pdb_element(name: &str, residue: &str) -> Option<String> {
     }
     let upper = letters.to_ascii_uppercase();
     let two = &upper[..2];
-    if (letters.len() == 2 || upper == residue) && pdbtbx::Element::from_symbol(two).is_some() {
+    if (letters.len() == 2 || upper == residue) && is_element_symbol(two) {
         return Some(element::normalize_symbol(two));
     }
     Some(first)
 }
 
-/// The element for an atom `pdbtbx` could not type: the first letter of its
-/// name (after any leading digits), or `X`.
+/// The symbols of the 118 elements.
+const ELEMENT_SYMBOLS: [&str; 118] = [
+    "H", "He", "Li", "Be", "B", "C", "N", "O", "F", "Ne", "Na", "Mg", "Al", "Si", "P", "S", "Cl",
+    "Ar", "K", "Ca", "Sc", "Ti", "V", "Cr", "Mn", "Fe", "Co", "Ni", "Cu", "Zn", "Ga", "Ge", "As",
+    "Se", "Br", "Kr", "Rb", "Sr", "Y", "Zr", "Nb", "Mo", "Tc", "Ru", "Rh", "Pd", "Ag", "Cd", "In",
+    "Sn", "Sb", "Te", "I", "Xe", "Cs", "Ba", "La", "Ce", "Pr", "Nd", "Pm", "Sm", "Eu", "Gd", "Tb",
+    "Dy", "Ho", "Er", "Tm", "Yb", "Lu", "Hf", "Ta", "W", "Re", "Os", "Ir", "Pt", "Au", "Hg", "Tl",
+    "Pb", "Bi", "Po", "At", "Rn", "Fr", "Ra", "Ac", "Th", "Pa", "U", "Np", "Pu", "Am", "Cm", "Bk",
+    "Cf", "Es", "Fm", "Md", "No", "Lr", "Rf", "Db", "Sg", "Bh", "Hs", "Mt", "Ds", "Rg", "Cn", "Nh",
+    "Fl", "Mc", "Lv", "Ts", "Og",
+];
+
+/// True when `symbol` (any case) is an element's symbol, or `D` (deuterium).
+pub fn is_element_symbol(symbol: &str) -> bool {
+    symbol.eq_ignore_ascii_case("D")
+        || ELEMENT_SYMBOLS
+            .iter()
+            .any(|e| e.eq_ignore_ascii_case(symbol))
+}
+
+/// The element for an atom whose element could not be guessed from its
+/// name's alignment: the first letter of its name (after any leading
+/// digits), or `X`.
 pub(super) fn guess_from_name(name: &str) -> String {
     name.chars()
         .find(|c| c.is_ascii_alphabetic())
@@ -79,5 +100,15 @@ mod tests {
         assert_eq!(g("1HG2", "LIG"), "H");
         assert_eq!(g(" OH2", "TIP"), "O");
         assert!(guess_pdb_element(" 12 ", "LIG").is_none());
+    }
+
+    #[test]
+    fn element_symbols_are_known_in_any_case() {
+        for s in ["C", "cl", "FE", "Og", "d"] {
+            assert!(is_element_symbol(s), "{s}");
+        }
+        for s in ["Qq", "", "X", "CA1"] {
+            assert!(!is_element_symbol(s), "{s}");
+        }
     }
 }

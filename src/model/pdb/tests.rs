@@ -15,7 +15,7 @@ fn load(name: &str, hydrogens: Hydrogens) -> Option<Loaded> {
         hydrogens,
         ..LoadOptions::default()
     };
-    Some(load_pdbtbx(&dir.join(name), &opts).unwrap_or_else(|e| panic!("{name}: {e}")))
+    Some(load_pdb_or_mmcif(&dir.join(name), &opts).unwrap_or_else(|e| panic!("{name}: {e}")))
 }
 
 fn parse_pdb_text(text: &str) -> Result<Loaded, LoadError> {
@@ -432,7 +432,7 @@ fn no_atoms_is_no_atoms() {
 
 #[test]
 fn missing_file_is_io() {
-    let r = load_pdbtbx(Path::new("/nonexistent/x.pdb"), &LoadOptions::default());
+    let r = load_pdb_or_mmcif(Path::new("/nonexistent/x.pdb"), &LoadOptions::default());
     assert!(matches!(r, Err(LoadError::Io { .. })));
 }
 
