@@ -317,7 +317,7 @@ mod tests {
                 name: (*name).into(),
                 residue: "ASP".into(),
                 seq: 27,
-                insertion: String::new(),
+                insertion: Default::default(),
                 chain: "A".into(),
                 element: (*e).into(),
                 radius: 1.7,
