@@ -55,4 +55,5 @@ pub mod motion;
 pub mod render;
 pub mod rng;
 pub mod scene;
+pub mod score;
 pub mod session;
