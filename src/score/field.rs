@@ -14,7 +14,7 @@ use glam::{DMat3, DVec3};
 
 use super::function::{CUTOFF2, curl, curl_with_slope};
 use super::ligand::{Conformation, Gradient, Ligand};
-use super::table::{Table, index};
+use super::table::{Table, index, smooth_at};
 use super::xs::XsType;
 
 /// An evaluator of the intermolecular energy of single drug atoms.
@@ -78,8 +78,7 @@ pub fn energies<F: Field + ?Sized>(
         let (i, j) = (lig.scored[a as usize] as usize, lig.scored[b as usize] as usize);
         let r2 = (x[i] - x[j]).length_squared();
         if r2 < CUTOFF2 {
-            let off = table.offsets(lig.xs[a as usize])[lig.xs[b as usize].index()];
-            intra += curl(table.fast_at(off, index(r2)));
+            intra += curl(table.fast_row(lig.xs[a as usize], lig.xs[b as usize])[index(r2)]);
         }
     }
     Energies { inter, intra }
@@ -112,8 +111,7 @@ pub fn energy_gradient<F: Field + ?Sized>(
         let d = x[i] - x[j];
         let r2 = d.length_squared();
         if r2 < CUTOFF2 {
-            let off = table.offsets(lig.xs[a as usize])[lig.xs[b as usize].index()];
-            let (e, de) = table.smooth_at(off, r2);
+            let (e, de) = smooth_at(table.smooth_row(lig.xs[a as usize], lig.xs[b as usize]), r2);
             let (e, s) = curl_with_slope(e);
             intra += e;
             let f = d * (2.0 * de * s);
@@ -123,4 +121,58 @@ pub fn energy_gradient<F: Field + ?Sized>(
     }
     lig.gradient(conf, x, g, &mut ws.tree, grad);
     Energies { inter, intra }
+}
+
+/// The drug held in one conformation and moved rigidly: what a haptic loop
+/// asks for while the user moves the drug without turning its bonds. The
+/// intramolecular energy does not change under a rigid motion, so it is
+/// computed once; each query is the intermolecular energy and the force and
+/// torque (as `∂E/∂T` and `∂E/∂ω` about the drug's centre).
+#[derive(Debug, Clone, Default)]
+pub struct RigidDrug {
+    /// Scored atoms' positions in the drug's frame at the held conformation.
+    local: Vec<DVec3>,
+    /// Their types.
+    xs: Vec<XsType>,
+    /// Vina's intramolecular energy at the held conformation.
+    pub intra: f64,
+}
+
+impl RigidDrug {
+    /// `lig` held at `torsions` (radians from the loaded angles).
+    pub fn new<F: Field + ?Sized>(field: &F, lig: &Ligand, torsions: &[f64]) -> Self {
+        let conf = Conformation {
+            pose: crate::motion::Pose::IDENTITY,
+            torsions: torsions.to_vec(),
+        };
+        let mut ws = Workspace::default();
+        let intra = energies(field, lig, &conf, &mut ws).intra;
+        Self {
+            local: lig.scored.iter().map(|&i| ws.positions[i as usize]).collect(),
+            xs: lig.xs.clone(),
+            intra,
+        }
+    }
+
+    /// The intermolecular energy at `pose` (after the curl) with `∂E/∂T`
+    /// and `∂E/∂ω`.
+    #[inline]
+    pub fn energy_gradient<F: Field + ?Sized>(
+        &self,
+        field: &F,
+        pose: &crate::motion::Pose,
+    ) -> (f64, DVec3, DVec3) {
+        let m = DMat3::from_quat(pose.rotation);
+        let (mut e, mut force, mut moment) = (0.0, DVec3::ZERO, DVec3::ZERO);
+        for (y, &t) in self.local.iter().zip(&self.xs) {
+            let r = m * *y;
+            let (v, g) = field.atom_energy_gradient(t, r + pose.translation);
+            let (v, s) = curl_with_slope(v);
+            let g = g * s;
+            e += v;
+            force += g;
+            moment += r.cross(g);
+        }
+        (e, force, moment)
+    }
 }

@@ -10,6 +10,10 @@
 //! - [`field`]: what an evaluator provides; a conformation's energy and
 //!   gradient on top of one.
 //! - [`exact`]: the exact evaluator (pairs within 8 Å).
+//! - [`maps`]: grid maps per type, built on a background thread, read by
+//!   trilinear interpolation; the exact evaluator covers what they do not.
+//! - [`coulomb`]: Coulomb energy with AutoDock 4's dielectric, exact and
+//!   from a map, reported beside the score.
 //! - [`report`]: a pose's score term by term, per atom, with its hydrogen
 //!   bonds.
 //!
@@ -19,19 +23,22 @@
 //! receptor's centre, the drug placed by its pose relative to the receptor
 //! (as [`crate::scene::Scene::relative`] gives it).
 
+pub mod coulomb;
 pub mod exact;
 pub mod field;
 pub mod function;
 pub mod ligand;
+pub mod maps;
 pub mod receptor;
 pub mod report;
 pub mod table;
 pub mod xs;
 
 pub use exact::Exact;
-pub use field::{Energies, Field, Workspace, energies, energy_gradient};
+pub use field::{Energies, Field, RigidDrug, Workspace, energies, energy_gradient};
 pub use function::{Scoring, curl, torsion_divisor};
 pub use ligand::{Conformation, Fragment, Gradient, Ligand, LigandError};
+pub use maps::{MapBox, MapField, Maps, MapsError, MapsJob};
 pub use receptor::Receptor;
 pub use report::{Donor, Evaluator, HBond, Score, score};
 pub use xs::XsType;

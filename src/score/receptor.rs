@@ -16,6 +16,9 @@ use super::xs::XsType;
 /// reads about 1.5 times the atoms its sphere holds.
 pub const CELL: f64 = 2.0;
 
+/// scratch
+pub static CELL_OVERRIDE: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
 /// A receptor atom in the cell list.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CellAtom {
@@ -55,7 +58,7 @@ impl Cells {
         // a file's coordinates must not decide how much memory is taken.
         let extent = (hi - lo).max(DVec3::splat(1e-9));
         let budget = 8.0 * atoms.len() as f64 + 1e6;
-        let mut cell = CELL;
+        let mut cell = match CELL_OVERRIDE.load(std::sync::atomic::Ordering::Relaxed) { 0 => CELL, v => f64::from_bits(v) };
         let count = |c: f64| {
             let d = (extent / c).floor() + 1.0;
             d.x * d.y * d.z
@@ -105,6 +108,11 @@ impl Cells {
         }
     }
 
+    /// The cells' edge (Å).
+    pub fn cell(&self) -> f64 {
+        self.cell
+    }
+
     /// The atoms, in cell order.
     pub fn atoms(&self) -> &[CellAtom] {
         &self.atoms
@@ -115,42 +123,47 @@ impl Cells {
     /// caller tests the distance).
     #[inline]
     pub fn visit(&self, x: DVec3, cutoff: f64, mut f: impl FnMut(&CellAtom)) {
-        let rel = x - self.origin;
+        let rel = (x - self.origin) * self.inv;
         let reach = cutoff * self.inv;
-        let lo = (rel * self.inv - reach).floor();
-        let hi = (rel * self.inv + reach).floor();
-        let top = |k: usize| (self.dims[k] - 1) as f64;
-        if hi.x < 0.0 || hi.y < 0.0 || hi.z < 0.0 || lo.x > top(0) || lo.y > top(1) || lo.z > top(2)
-        {
-            return;
-        }
-        let (z0, z1) = (lo.z.max(0.0) as usize, hi.z.min(top(2)) as usize);
-        let (y0, y1) = (lo.y.max(0.0) as usize, hi.y.min(top(1)) as usize);
-        let c2 = cutoff * cutoff;
-        let gap = |v: f64, k: usize| {
-            let lo = k as f64 * self.cell;
-            (lo - v).max(v - (lo + self.cell)).max(0.0)
+        let [nx, ny, nz] = self.dims;
+        // Cell ranges per axis, clamped; empty when the ball misses the box.
+        let range = |v: f64, n: usize| -> Option<(usize, usize)> {
+            let lo = floor_index(v - reach).max(0);
+            let hi = floor_index(v + reach).min(n as i64 - 1);
+            (lo <= hi).then_some((lo as usize, hi as usize))
         };
+        let (Some((z0, z1)), Some((y0, y1)), Some(_)) =
+            (range(rel.z, nz), range(rel.y, ny), range(rel.x, nx))
+        else {
+            return;
+        };
+        // Squared distances (in cells) from `x` to each slab along y and z.
+        let gap2 = |v: f64, k: usize| {
+            let g = (k as f64 - v).max(v - (k as f64 + 1.0)).max(0.0);
+            g * g
+        };
+        let r2 = reach * reach;
+        let mut gy2 = [0.0f64; 24];
+        let ny_used = (y1 - y0 + 1).min(gy2.len());
+        for (k, g) in gy2.iter_mut().enumerate().take(ny_used) {
+            *g = gap2(rel.y, y0 + k);
+        }
         for z in z0..=z1 {
-            let gz = gap(rel.z, z);
-            let gz2 = gz * gz;
-            if gz2 > c2 {
-                continue;
-            }
+            let gz2 = gap2(rel.z, z);
             for y in y0..=y1 {
-                let gy = gap(rel.y, y);
-                let rem = c2 - gz2 - gy * gy;
+                let gy = if y - y0 < ny_used { gy2[y - y0] } else { gap2(rel.y, y) };
+                let rem = r2 - gz2 - gy;
                 if rem < 0.0 {
                     continue;
                 }
                 let h = rem.sqrt();
-                let x0 = ((rel.x - h) * self.inv).floor().max(0.0);
-                let x1 = ((rel.x + h) * self.inv).floor().min(top(0));
-                if x1 < x0 {
+                let x0 = floor_index(rel.x - h).max(0) as usize;
+                let x1 = floor_index(rel.x + h).min(nx as i64 - 1);
+                if x1 < x0 as i64 {
                     continue;
                 }
-                let row = (z * self.dims[1] + y) * self.dims[0];
-                let a = self.start[row + x0 as usize] as usize;
+                let row = (z * ny + y) * nx;
+                let a = self.start[row + x0] as usize;
                 let b = self.start[row + x1 as usize + 1] as usize;
                 for atom in &self.atoms[a..b] {
                     f(atom);
@@ -158,6 +171,16 @@ impl Cells {
             }
         }
     }
+}
+
+/// `⌊v⌋` as an integer, without a call to `floor` (which is a library call
+/// on machines without SSE 4.1): cell indices of positions within the
+/// file-coordinate range.
+#[inline]
+fn floor_index(v: f64) -> i64 {
+    // Within ±2³¹ cells: i32 conversions are the cheap ones.
+    let t = v as i32;
+    i64::from(if (t as f64) > v { t - 1 } else { t })
 }
 
 /// The receptor's typed heavy atoms and their cell list.

@@ -25,21 +25,27 @@ pub const FACTOR: f64 = 32.0;
 
 /// Samples kept per type pair: `k = 0 … 2049` (only `k ≤ 2048` are ever
 /// non-zero or read).
-const STRIDE: usize = 2050;
+pub const STRIDE: usize = 2050;
+
+/// Largest index read: `r² ≥ 64` reads sample 2048, whose value is 0.
+const LAST: i32 = 2048;
 
 /// Number of X-Score types.
 const TYPES: usize = XsType::ALL.len();
+
+/// One type pair's samples.
+pub type Row = [f64; STRIDE];
 
 /// The sampled pair energies of one scoring function.
 #[derive(Debug)]
 pub struct Table {
     scoring: Scoring,
-    /// Per type pair, `STRIDE` values of `fast_k`.
-    fast: Vec<f64>,
-    /// Per type pair, `STRIDE` values of `smooth_k`.
-    smooth: Vec<f64>,
-    /// Start of each ordered type pair's block (symmetric).
-    offset: [[u32; TYPES]; TYPES],
+    /// Per type pair, `fast_k`.
+    fast: Vec<Row>,
+    /// Per type pair, `smooth_k`.
+    smooth: Vec<Row>,
+    /// Each ordered type pair's row (symmetric).
+    pair: [[u16; TYPES]; TYPES],
 }
 
 /// `r_k = √(k/32)`, as Vina's `calculate_rs`.
@@ -48,43 +54,43 @@ fn sample_r(k: usize) -> f64 {
     (k as f64 / FACTOR).sqrt()
 }
 
-/// The table index of `r2` (truncation toward zero, as Vina's `sz(32·r²)`).
+/// The table index of `r2`, `⌊32·r²⌋` (truncation toward zero, as Vina's
+/// `sz(32·r²)`), clamped to 2048, whose samples are 0: so `r² ≥ 64` needs
+/// no test of its own.
 #[inline]
 pub fn index(r2: f64) -> usize {
-    (FACTOR * r2) as usize
+    ((FACTOR * r2) as i32).clamp(0, LAST) as usize
 }
 
 impl Table {
     fn build(scoring: Scoring) -> Self {
-        let pairs = TYPES * (TYPES + 1) / 2;
-        let mut fast = vec![0.0; pairs * STRIDE];
-        let mut smooth = vec![0.0; pairs * STRIDE];
-        let mut offset = [[0u32; TYPES]; TYPES];
-        let mut block = 0;
+        let mut fast = Vec::with_capacity(TYPES * (TYPES + 1) / 2);
+        let mut smooth = Vec::with_capacity(TYPES * (TYPES + 1) / 2);
+        let mut pair = [[0u16; TYPES]; TYPES];
         for a in 0..TYPES {
             for b in a..TYPES {
-                let start = block * STRIDE;
-                offset[a][b] = start as u32;
-                offset[b][a] = start as u32;
+                pair[a][b] = fast.len() as u16;
+                pair[b][a] = fast.len() as u16;
                 let (ta, tb) = (XsType::ALL[a], XsType::ALL[b]);
-                let s = &mut smooth[start..start + STRIDE];
-                // Beyond k = 2048 (r = 8 Å) every term is 0.
-                for (k, v) in s.iter_mut().enumerate().take(2049) {
+                let mut s = [0.0; STRIDE];
+                // From k = 2048 (r = 8 Å) on, every term is 0.
+                for (k, v) in s.iter_mut().enumerate().take(LAST as usize) {
                     *v = scoring.pair_energy(ta, tb, sample_r(k));
                 }
-                let f = &mut fast[start..start + STRIDE];
+                let mut f = [0.0; STRIDE];
                 for k in 0..STRIDE - 1 {
                     f[k] = (s[k] + s[k + 1]) / 2.0;
                 }
                 f[STRIDE - 1] = s[STRIDE - 1] / 2.0;
-                block += 1;
+                fast.push(f);
+                smooth.push(s);
             }
         }
         Self {
             scoring,
             fast,
             smooth,
-            offset,
+            pair,
         }
     }
 
@@ -107,62 +113,53 @@ impl Table {
     /// (`eval_fast`); 0 for `r2 ≥ 64`.
     #[inline]
     pub fn fast(&self, a: XsType, b: XsType, r2: f64) -> f64 {
-        if r2 >= CUTOFF2 {
-            return 0.0;
-        }
-        self.fast[self.offset[a.index()][b.index()] as usize + index(r2)]
+        self.fast_row(a, b)[index(r2)]
     }
 
-    /// The samples `fast_k` of the pair `a`, `b` (`k < 2050`).
+    /// The samples `fast_k` of the pair `a`, `b`.
     #[inline]
-    pub fn fast_row(&self, a: XsType, b: XsType) -> &[f64] {
-        let o = self.offset[a.index()][b.index()] as usize;
-        &self.fast[o..o + STRIDE]
+    pub fn fast_row(&self, a: XsType, b: XsType) -> &Row {
+        &self.fast[usize::from(self.pair[a.index()][b.index()])]
     }
 
-    /// The samples `smooth_k` of the pair `a`, `b` (`k < 2050`).
+    /// The samples `smooth_k` of the pair `a`, `b`.
     #[inline]
-    pub fn smooth_row(&self, a: XsType, b: XsType) -> &[f64] {
-        let o = self.offset[a.index()][b.index()] as usize;
-        &self.smooth[o..o + STRIDE]
+    pub fn smooth_row(&self, a: XsType, b: XsType) -> &Row {
+        &self.smooth[usize::from(self.pair[a.index()][b.index()])]
     }
 
-    /// Offsets of the blocks of type `a` with each type `b`, for loops
-    /// that look many pairs of one ligand type up ([`Self::fast_at`],
-    /// [`Self::smooth_at`]).
+    /// The `fast` rows of type `a` with every type, by type index: for loops
+    /// that look up many pairs of one drug atom.
     #[inline]
-    pub fn offsets(&self, a: XsType) -> &[u32; TYPES] {
-        &self.offset[a.index()]
+    pub fn fast_rows(&self, a: XsType) -> [&Row; TYPES] {
+        let p = &self.pair[a.index()];
+        std::array::from_fn(|b| &self.fast[usize::from(p[b])])
     }
 
-    /// `fast` at a block offset from [`Self::offsets`] and `k < 2050`.
+    /// The `smooth` rows of type `a` with every type, by type index.
     #[inline]
-    pub fn fast_at(&self, offset: u32, k: usize) -> f64 {
-        self.fast[offset as usize + k]
-    }
-
-    /// The continuous energy and `dE/d(r²)` at a block offset from
-    /// [`Self::offsets`] and `r2 < 64`.
-    #[inline]
-    pub fn smooth_at(&self, offset: u32, r2: f64) -> (f64, f64) {
-        let x = FACTOR * r2;
-        let k = x as usize;
-        let rem = x - k as f64;
-        let o = offset as usize + k;
-        let (s0, s1) = (self.smooth[o], self.smooth[o + 1]);
-        let slope = s1 - s0;
-        (s0 + rem * slope, FACTOR * slope)
+    pub fn smooth_rows(&self, a: XsType) -> [&Row; TYPES] {
+        let p = &self.pair[a.index()];
+        std::array::from_fn(|b| &self.smooth[usize::from(p[b])])
     }
 
     /// The continuous pair energy of types `a`, `b` and its derivative with
     /// respect to r²; 0 for `r2 ≥ 64`.
     #[inline]
     pub fn smooth(&self, a: XsType, b: XsType, r2: f64) -> (f64, f64) {
-        if r2 >= CUTOFF2 {
-            return (0.0, 0.0);
-        }
-        self.smooth_at(self.offset[a.index()][b.index()], r2)
+        smooth_at(self.smooth_row(a, b), r2)
     }
+}
+
+/// The continuous energy of a `smooth` row at `r2` and `dE/d(r²)`: linear
+/// between the samples around it (0 for `r2 ≥ 64`).
+#[inline]
+pub fn smooth_at(row: &Row, r2: f64) -> (f64, f64) {
+    let k = index(r2);
+    let rem = FACTOR * r2 - k as f64;
+    let (s0, s1) = (row[k], row[k + 1]);
+    let slope = s1 - s0;
+    (s0 + rem * slope, FACTOR * slope)
 }
 
 /// The unweighted terms of a pair as Vina's table gives them: each term's
