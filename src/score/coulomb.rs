@@ -170,7 +170,9 @@ impl CoulombMap {
                         }
                         let half = (c2 - dyz2).sqrt();
                         let xlo = ((p.x - half - lattice.origin.x) * inv).ceil().max(0.0);
-                        let xhi = ((p.x + half - lattice.origin.x) * inv).floor().min((nx - 1) as f64);
+                        let xhi = ((p.x + half - lattice.origin.x) * inv)
+                            .floor()
+                            .min((nx - 1) as f64);
                         if xhi < xlo {
                             continue;
                         }

@@ -12,7 +12,7 @@ use super::field::Field;
 use super::function::{CUTOFF, CUTOFF2, Scoring};
 use super::receptor::Receptor;
 use super::table::{Table, index, smooth_at};
-use super::xs::XsType;
+use crate::chem::XsType;
 
 /// The exact evaluator over one receptor.
 #[derive(Debug, Clone, Copy)]

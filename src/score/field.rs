@@ -15,7 +15,7 @@ use glam::{DMat3, DVec3};
 use super::function::{CUTOFF2, curl, curl_with_slope};
 use super::ligand::{Conformation, Gradient, Ligand};
 use super::table::{Table, index, smooth_at};
-use super::xs::XsType;
+use crate::chem::XsType;
 
 /// An evaluator of the intermolecular energy of single drug atoms.
 pub trait Field {
@@ -75,7 +75,10 @@ pub fn energies<F: Field + ?Sized>(
     let table = field.table();
     let mut intra = 0.0;
     for &[a, b] in &lig.pairs {
-        let (i, j) = (lig.scored[a as usize] as usize, lig.scored[b as usize] as usize);
+        let (i, j) = (
+            lig.scored[a as usize] as usize,
+            lig.scored[b as usize] as usize,
+        );
         let r2 = (x[i] - x[j]).length_squared();
         if r2 < CUTOFF2 {
             intra += curl(table.fast_row(lig.xs[a as usize], lig.xs[b as usize])[index(r2)]);
@@ -107,7 +110,10 @@ pub fn energy_gradient<F: Field + ?Sized>(
     let table = field.table();
     let mut intra = 0.0;
     for &[a, b] in &lig.pairs {
-        let (i, j) = (lig.scored[a as usize] as usize, lig.scored[b as usize] as usize);
+        let (i, j) = (
+            lig.scored[a as usize] as usize,
+            lig.scored[b as usize] as usize,
+        );
         let d = x[i] - x[j];
         let r2 = d.length_squared();
         if r2 < CUTOFF2 {
@@ -148,7 +154,11 @@ impl RigidDrug {
         let mut ws = Workspace::default();
         let intra = energies(field, lig, &conf, &mut ws).intra;
         Self {
-            local: lig.scored.iter().map(|&i| ws.positions[i as usize]).collect(),
+            local: lig
+                .scored
+                .iter()
+                .map(|&i| ws.positions[i as usize])
+                .collect(),
             xs: lig.xs.clone(),
             intra,
         }

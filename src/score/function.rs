@@ -20,7 +20,7 @@
 
 use serde::Serialize;
 
-use super::xs::XsType;
+use crate::chem::XsType;
 
 /// Centre distance (Å) at and beyond which no pair interacts.
 pub const CUTOFF: f64 = 8.0;
@@ -288,7 +288,11 @@ impl Scoring {
 /// `e·1000/(1000 + e)`, others are kept.
 #[inline]
 pub fn curl(e: f64) -> f64 {
-    if e > 0.0 { e * (1000.0 / (1000.0 + e)) } else { e }
+    if e > 0.0 {
+        e * (1000.0 / (1000.0 + e))
+    } else {
+        e
+    }
 }
 
 /// The curl and its derivative `d curl / d e` (1 for `e ≤ 0`).
@@ -332,7 +336,10 @@ mod tests {
         let t = Scoring::Vina.pair_terms(XsType::N_D, XsType::O_D, 2.7);
         assert_eq!(t[4], 0.0);
         // Nothing at or beyond 8 Å.
-        assert_eq!(Scoring::Vina.pair_energy(XsType::C_H, XsType::C_H, 8.0), 0.0);
+        assert_eq!(
+            Scoring::Vina.pair_energy(XsType::C_H, XsType::C_H, 8.0),
+            0.0
+        );
         assert!(Scoring::Vina.pair_energy(XsType::C_H, XsType::C_H, 7.999) < 0.0);
     }
 

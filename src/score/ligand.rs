@@ -14,11 +14,12 @@
 //! The intramolecular pairs are Vina's (`model::initialize_pairs`,
 //! `docs/vina-scoring.md` §6): two scored atoms more than three bonds apart
 //! whose distance the tree lets vary — not in one fragment, and neither an
-//! axis atom of a bond with the atoms that bond carries.
+//! axis atom of a bond with the atoms that bond carries (the chemistry's
+//! [`crate::chem::TorsionTree::vina_pairs`]).
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::xs::XsType;
+use crate::chem::XsType;
 use crate::motion::Pose;
 
 /// A rigid fragment of the drug: a node of the torsion tree.
@@ -132,34 +133,6 @@ impl Gradient {
     }
 }
 
-/// Length of the shortest bond path between atoms, up to `limit`
-/// (`limit + 1` for farther or unconnected atoms).
-fn bond_distances(n: usize, bonds: &[[u32; 2]], from: usize, limit: usize) -> Vec<usize> {
-    let mut adj: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for &[a, b] in bonds {
-        adj[a as usize].push(b);
-        adj[b as usize].push(a);
-    }
-    let mut dist = vec![limit + 1; n];
-    dist[from] = 0;
-    let mut queue = vec![from as u32];
-    let mut head = 0;
-    while head < queue.len() {
-        let v = queue[head] as usize;
-        head += 1;
-        if dist[v] >= limit {
-            continue;
-        }
-        for &w in &adj[v] {
-            if dist[w as usize] > dist[v] + 1 {
-                dist[w as usize] = dist[v] + 1;
-                queue.push(w);
-            }
-        }
-    }
-    dist
-}
-
 impl Ligand {
     /// A ligand from its parts, with its intramolecular pairs and torsion
     /// count given (as Vina recorded them, for instance).
@@ -203,7 +176,9 @@ impl Ligand {
         for &[a, b] in pairs {
             let (a, b) = (a as usize, b as usize);
             if a >= n || b >= n {
-                return Err(LigandError::Tree(format!("pair ({a}, {b}) beyond {n} atoms")));
+                return Err(LigandError::Tree(format!(
+                    "pair ({a}, {b}) beyond {n} atoms"
+                )));
             }
             if slot[a] != u32::MAX && slot[b] != u32::MAX {
                 kept.push([slot[a], slot[b]]);
@@ -237,42 +212,6 @@ impl Ligand {
             torsion_fragment,
             axis,
         })
-    }
-
-    /// A ligand whose intramolecular pairs and torsion count follow from
-    /// its heavy-atom bonds as Vina derives them: pairs more than three
-    /// bonds apart whose distance the tree lets vary, and `N_tors` = ½ per
-    /// end of each rotatable bond whose other atom has more than one heavy
-    /// neighbour.
-    ///
-    /// # Errors
-    /// As [`Self::from_parts`], and for a bond to an atom that does not exist.
-    pub fn from_bonds(
-        local: Vec<DVec3>,
-        fragments: Vec<Fragment>,
-        xs: &[Option<XsType>],
-        charges: Vec<f64>,
-        bonds: &[[u32; 2]],
-    ) -> Result<Self, LigandError> {
-        let n = local.len();
-        if let Some(&[a, b]) = bonds.iter().find(|[a, b]| *a as usize >= n || *b as usize >= n) {
-            return Err(LigandError::Tree(format!("bond ({a}, {b}) beyond {n} atoms")));
-        }
-        let fragment_of = check_tree(n, &fragments)?;
-        let mut degree = vec![0usize; n];
-        for &[a, b] in bonds {
-            degree[a as usize] += 1;
-            degree[b as usize] += 1;
-        }
-        let mut torsion_count = 0.0;
-        for f in &fragments {
-            if let Some([a, b]) = f.bond {
-                torsion_count += 0.5 * f64::from(u8::from(degree[a as usize] > 1));
-                torsion_count += 0.5 * f64::from(u8::from(degree[b as usize] > 1));
-            }
-        }
-        let pairs = variable_pairs(n, &fragments, &fragment_of, bonds, xs);
-        Self::from_parts(local, fragments, xs, charges, &pairs, torsion_count)
     }
 
     /// Number of heavy atoms.
@@ -407,10 +346,15 @@ fn check_tree(n: usize, fragments: &[Fragment]) -> Result<Vec<u32>, LigandError>
     for (f, frag) in fragments.iter().enumerate() {
         for &a in &frag.atoms {
             let Some(slot) = fragment_of.get_mut(a as usize) else {
-                return Err(LigandError::Tree(format!("fragment {f}: atom {a} beyond {n}")));
+                return Err(LigandError::Tree(format!(
+                    "fragment {f}: atom {a} beyond {n}"
+                )));
             };
             if *slot != u32::MAX {
-                return Err(LigandError::Tree(format!("atom {a} in fragments {} and {f}", *slot)));
+                return Err(LigandError::Tree(format!(
+                    "atom {a} in fragments {} and {f}",
+                    *slot
+                )));
             }
             *slot = f as u32;
         }
@@ -441,53 +385,6 @@ fn check_tree(n: usize, fragments: &[Fragment]) -> Result<Vec<u32>, LigandError>
     Ok(fragment_of)
 }
 
-/// Vina's intramolecular pairs over heavy atoms: both typed, more than
-/// three bonds apart, and of `DISTANCE_VARIABLE` mobility.
-fn variable_pairs(
-    n: usize,
-    fragments: &[Fragment],
-    fragment_of: &[u32],
-    bonds: &[[u32; 2]],
-    xs: &[Option<XsType>],
-) -> Vec<[u32; 2]> {
-    // Vina's "range" of an atom: its fragment, except a bond's child atom,
-    // which Vina places in the parent's range.
-    let mut range: Vec<u32> = fragment_of.to_vec();
-    for frag in fragments {
-        if let (Some(p), Some([_, b])) = (frag.parent, frag.bond) {
-            range[b as usize] = p;
-        }
-    }
-    let fixed = |i: usize, j: usize| -> bool {
-        if range[i] == range[j] {
-            return true;
-        }
-        fragments.iter().enumerate().any(|(f, frag)| match frag.bond {
-            Some([a, b]) => {
-                let (a, b) = (a as usize, b as usize);
-                let on_axis = |k: usize| k == a || k == b;
-                (on_axis(i) && range[j] == f as u32)
-                    || (on_axis(j) && range[i] == f as u32)
-                    || (on_axis(i) && on_axis(j))
-            }
-            None => false,
-        })
-    };
-    let mut pairs = Vec::new();
-    for i in 0..n {
-        if xs[i].is_none() {
-            continue;
-        }
-        let dist = bond_distances(n, bonds, i, 3);
-        for j in i + 1..n {
-            if xs[j].is_some() && dist[j] > 3 && !fixed(i, j) {
-                pairs.push([i as u32, j as u32]);
-            }
-        }
-    }
-    pairs
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -496,7 +393,13 @@ mod tests {
     /// bonds 1-2 and 3-4: fragments {0,1}, {2,3}, {4,5}.
     fn chain() -> Ligand {
         let local: Vec<DVec3> = (0..6)
-            .map(|i| DVec3::new(1.25 * i as f64, if i % 2 == 0 { 0.0 } else { 0.9 }, 0.1 * i as f64))
+            .map(|i| {
+                DVec3::new(
+                    1.25 * i as f64,
+                    if i % 2 == 0 { 0.0 } else { 0.9 },
+                    0.1 * i as f64,
+                )
+            })
             .collect();
         let fragments = vec![
             Fragment {
@@ -515,18 +418,17 @@ mod tests {
                 atoms: vec![4, 5],
             },
         ];
-        let bonds: Vec<[u32; 2]> = (0..5).map(|i| [i, i + 1]).collect();
-        Ligand::from_bonds(local, fragments, &[Some(XsType::C_H); 6], vec![0.0; 6], &bonds)
-            .expect("a valid chain")
-    }
-
-    #[test]
-    fn pairs_and_torsion_count_follow_vina() {
-        let lig = chain();
-        // Only 0-4, 0-5 and 1-5 are more than three bonds apart; 1 is the
-        // axis atom of bond 1-2, but 5 is two fragments away.
-        assert_eq!(lig.pairs, vec![[0, 4], [0, 5], [1, 5]]);
-        assert_eq!(lig.torsion_count, 2.0);
+        // Vina's pairs: more than three bonds apart and free to move.
+        let pairs = [[0, 4], [0, 5], [1, 5]];
+        Ligand::from_parts(
+            local,
+            fragments,
+            &[Some(XsType::C_H); 6],
+            vec![0.0; 6],
+            &pairs,
+            2.0,
+        )
+        .expect("a valid chain")
     }
 
     #[test]
@@ -557,8 +459,7 @@ mod tests {
             .collect();
         let energy = |conf: &Conformation| {
             let x = lig.place(conf);
-            x.iter().zip(&c).map(|(x, c)| x.dot(*c)).sum::<f64>()
-                + (x[0] - x[5]).length_squared()
+            x.iter().zip(&c).map(|(x, c)| x.dot(*c)).sum::<f64>() + (x[0] - x[5]).length_squared()
         };
         let pose = Pose::new(DQuat::from_rotation_x(0.4), DVec3::new(1.0, 2.0, 3.0));
         let mut conf = lig.rigid(pose);
@@ -579,11 +480,16 @@ mod tests {
             assert!((num - grad.translation[axis]).abs() < 1e-6);
             let turn = |s: f64| {
                 let mut q = conf.clone();
-                q.pose.rotation = DQuat::from_scaled_axis(DVec3::AXES[axis] * s * h) * conf.pose.rotation;
+                q.pose.rotation =
+                    DQuat::from_scaled_axis(DVec3::AXES[axis] * s * h) * conf.pose.rotation;
                 q
             };
             let num = (energy(&turn(1.0)) - energy(&turn(-1.0))) / (2.0 * h);
-            assert!((num - grad.rotation[axis]).abs() < 1e-6, "{num} {:?}", grad.rotation);
+            assert!(
+                (num - grad.rotation[axis]).abs() < 1e-6,
+                "{num} {:?}",
+                grad.rotation
+            );
         }
         for k in 0..2 {
             let (mut p, mut m) = (conf.clone(), conf.clone());

@@ -26,7 +26,7 @@ use super::field::Field;
 use super::function::{CUTOFF, CUTOFF2, Scoring};
 use super::receptor::Receptor;
 use super::table::{Row, Table, index};
-use super::xs::XsType;
+use crate::chem::XsType;
 
 /// Vina's default lattice spacing, Å.
 pub const DEFAULT_SPACING: f64 = 0.375;
@@ -120,7 +120,11 @@ impl Lattice {
     /// of more than [`MAX_POINTS`] points.
     pub fn new(bx: &MapBox) -> Result<Self, MapsError> {
         let ok = |v: f64| v.is_finite() && v > 0.0;
-        if !ok(bx.spacing) || !bx.size.is_finite() || bx.size.min_element() < 0.0 || !bx.centre.is_finite() {
+        if !ok(bx.spacing)
+            || !bx.size.is_finite()
+            || bx.size.min_element() < 0.0
+            || !bx.centre.is_finite()
+        {
             return Err(MapsError::Box {
                 spacing: bx.spacing,
                 size: bx.size.to_array(),
@@ -135,7 +139,9 @@ impl Lattice {
         }
         let n = bx.intervals();
         let points = [n[0] + 1, n[1] + 1, n[2] + 1];
-        let total = points[0].saturating_mul(points[1]).saturating_mul(points[2]);
+        let total = points[0]
+            .saturating_mul(points[1])
+            .saturating_mul(points[2]);
         if total > MAX_POINTS {
             return Err(MapsError::TooLarge {
                 points: total,
@@ -263,7 +269,9 @@ fn add_atom(
             }
             let half = (CUTOFF2 - dyz2).sqrt();
             let xlo = ((p.x - half - lattice.origin.x) * inv).ceil().max(0.0);
-            let xhi = ((p.x + half - lattice.origin.x) * inv).floor().min((nx - 1) as f64);
+            let xhi = ((p.x + half - lattice.origin.x) * inv)
+                .floor()
+                .min((nx - 1) as f64);
             if xhi < xlo {
                 continue;
             }
@@ -350,7 +358,15 @@ impl Maps {
             for &j in &near {
                 let b = receptor.xs[j];
                 let rows: Vec<&Row> = kinds.iter().map(|&t| table.fast_row(t, b)).collect();
-                add_atom(&lattice, z0, z1, receptor.positions[j], &rows, &mut out, &mut ks);
+                add_atom(
+                    &lattice,
+                    z0,
+                    z1,
+                    receptor.positions[j],
+                    &rows,
+                    &mut out,
+                    &mut ks,
+                );
             }
         };
         if jobs.len() == 1 {
@@ -449,7 +465,12 @@ pub struct MapsJob {
 impl MapsJob {
     /// Starts building maps of `receptor` on a background thread (which uses
     /// the machine's threads for the build itself).
-    pub fn spawn(receptor: Arc<Receptor>, scoring: Scoring, types: Vec<XsType>, bx: MapBox) -> Self {
+    pub fn spawn(
+        receptor: Arc<Receptor>,
+        scoring: Scoring,
+        types: Vec<XsType>,
+        bx: MapBox,
+    ) -> Self {
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
         let handle = std::thread::Builder::new()
             .name("bump-maps".into())
@@ -518,7 +539,10 @@ mod tests {
                 for &t in &types {
                     let (e, _) = maps.sample(t, x).unwrap();
                     let want = exact.atom_energy(t, x);
-                    assert!((e - want).abs() < 1e-4 * (1.0 + want.abs()), "{e} vs {want}");
+                    assert!(
+                        (e - want).abs() < 1e-4 * (1.0 + want.abs()),
+                        "{e} vs {want}"
+                    );
                 }
             }
         }
@@ -539,7 +563,11 @@ mod tests {
                 let num = (maps.sample(XsType::O_A, x + d).unwrap().0
                     - maps.sample(XsType::O_A, x - d).unwrap().0)
                     / (2.0 * h);
-                assert!((num - g[a]).abs() < 1e-4 * (1.0 + g[a].abs()), "{num} vs {}", g[a]);
+                assert!(
+                    (num - g[a]).abs() < 1e-4 * (1.0 + g[a].abs()),
+                    "{num} vs {}",
+                    g[a]
+                );
             }
         }
         // Outside the box, or a type without a map: no sample.

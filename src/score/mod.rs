@@ -1,7 +1,6 @@
 //! AutoDock Vina 1.2's scoring, exactly, with gradients, grid maps, a
 //! Coulomb term beside it, and a local optimiser that never collides.
 //!
-//! - [`xs`]: the X-Score atom types the scoring reads.
 //! - [`function`]: Vina's and Vinardo's terms, weights, curl and divisor.
 //! - [`table`]: Vina's pair-energy table, which even its exact score reads.
 //! - [`ligand`]: the drug as typed atoms in a torsion tree; conformations
@@ -18,7 +17,9 @@
 //!   bonds.
 //!
 //! The scoring takes typed atoms (positions and X-Score types, and for the
-//! drug its torsion tree), so it does not depend on how they were typed.
+//! drug its torsion tree), so it does not depend on how they were typed:
+//! [`prepare`] builds them from a molecule's chemistry ([`crate::chem`]),
+//! the tests also from the types Vina itself recorded.
 //! Everything is in the receptor's frame: receptor atoms relative to the
 //! receptor's centre, the drug placed by its pose relative to the receptor
 //! (as [`crate::scene::Scene::relative`] gives it).
@@ -29,11 +30,12 @@ pub mod field;
 pub mod function;
 pub mod ligand;
 pub mod maps;
+pub mod prepare;
 pub mod receptor;
 pub mod report;
 pub mod table;
-pub mod xs;
 
+pub use crate::chem::XsType;
 pub use exact::Exact;
 pub use field::{Energies, Field, RigidDrug, Workspace, energies, energy_gradient};
 pub use function::{Scoring, curl, torsion_divisor};
@@ -41,4 +43,3 @@ pub use ligand::{Conformation, Fragment, Gradient, Ligand, LigandError};
 pub use maps::{MapBox, MapField, Maps, MapsError, MapsJob};
 pub use receptor::Receptor;
 pub use report::{Donor, Evaluator, HBond, Score, score};
-pub use xs::XsType;

@@ -10,7 +10,7 @@
 
 use glam::DVec3;
 
-use super::xs::XsType;
+use crate::chem::XsType;
 
 /// Edge of a cell, Å: a quarter of the 8 Å cutoff's diameter, so a query
 /// reads about 1.5 times the atoms its sphere holds.
@@ -58,7 +58,10 @@ impl Cells {
         // a file's coordinates must not decide how much memory is taken.
         let extent = (hi - lo).max(DVec3::splat(1e-9));
         let budget = 8.0 * atoms.len() as f64 + 1e6;
-        let mut cell = match CELL_OVERRIDE.load(std::sync::atomic::Ordering::Relaxed) { 0 => CELL, v => f64::from_bits(v) };
+        let mut cell = match CELL_OVERRIDE.load(std::sync::atomic::Ordering::Relaxed) {
+            0 => CELL,
+            v => f64::from_bits(v),
+        };
         let count = |c: f64| {
             let d = (extent / c).floor() + 1.0;
             d.x * d.y * d.z
@@ -151,7 +154,11 @@ impl Cells {
         for z in z0..=z1 {
             let gz2 = gap2(rel.z, z);
             for y in y0..=y1 {
-                let gy = if y - y0 < ny_used { gy2[y - y0] } else { gap2(rel.y, y) };
+                let gy = if y - y0 < ny_used {
+                    gy2[y - y0]
+                } else {
+                    gap2(rel.y, y)
+                };
                 let rem = r2 - gz2 - gy;
                 if rem < 0.0 {
                     continue;

@@ -23,7 +23,7 @@ use super::field::{Field, Workspace};
 use super::function::{CUTOFF2, MAX_TERMS, Scoring, curl, hbond_possible, torsion_divisor};
 use super::ligand::{Conformation, Ligand};
 use super::table::{fast_terms, index};
-use super::xs::XsType;
+use crate::chem::XsType;
 
 /// Which evaluator gave a score's totals.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -177,7 +177,10 @@ pub fn score<F: Field + ?Sized>(
             }
             let r = r2.sqrt();
             if hbond_possible(t, u) && r < scoring.radius(t) + scoring.radius(u) {
-                let donor = match (t.is_donor() && u.is_acceptor(), u.is_donor() && t.is_acceptor()) {
+                let donor = match (
+                    t.is_donor() && u.is_acceptor(),
+                    u.is_donor() && t.is_acceptor(),
+                ) {
                     (true, true) => Donor::Either,
                     (true, false) => Donor::Drug,
                     _ => Donor::Receptor,
@@ -202,7 +205,10 @@ pub fn score<F: Field + ?Sized>(
         });
     }
     for &[a, b] in &lig.pairs {
-        let (i, j) = (lig.scored[a as usize] as usize, lig.scored[b as usize] as usize);
+        let (i, j) = (
+            lig.scored[a as usize] as usize,
+            lig.scored[b as usize] as usize,
+        );
         let r2 = (x[i] - x[j]).length_squared();
         if r2 < CUTOFF2 {
             let f = fast_terms(scoring, lig.xs[a as usize], lig.xs[b as usize], r2);

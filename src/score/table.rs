@@ -18,7 +18,7 @@
 use std::sync::OnceLock;
 
 use super::function::{CUTOFF2, MAX_TERMS, Scoring};
-use super::xs::XsType;
+use crate::chem::XsType;
 
 /// Samples per Å² of r².
 pub const FACTOR: f64 = 32.0;
