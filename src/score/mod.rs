@@ -15,6 +15,8 @@
 //!   from a map, reported beside the score.
 //! - [`report`]: a pose's score term by term, per atom, with its hydrogen
 //!   bonds.
+//! - [`settle`]: local minimisation over position, orientation and
+//!   torsions (Vina's BFGS) whose steps never collide or tunnel.
 //!
 //! The scoring takes typed atoms (positions and X-Score types, and for the
 //! drug its torsion tree), so it does not depend on how they were typed:
@@ -33,6 +35,7 @@ pub mod maps;
 pub mod prepare;
 pub mod receptor;
 pub mod report;
+pub mod settle;
 pub mod table;
 
 pub use crate::chem::XsType;
@@ -43,3 +46,4 @@ pub use ligand::{Conformation, Fragment, Gradient, Ligand, LigandError};
 pub use maps::{MapBox, MapField, Maps, MapsError, MapsJob};
 pub use receptor::Receptor;
 pub use report::{Donor, Evaluator, HBond, Score, score};
+pub use settle::{Contacts, SettleOptions, Settled, settle};
