@@ -44,7 +44,7 @@
 //! and the rigid piece's chord stretched by the screw's
 //! `(θ/2)/sin(θ/2)`) cannot collide on the way, and is accepted as clear;
 //! a line search's first trial is shortened to what the clearances prove
-//! when that keeps at least a quarter of it.
+//! when that keeps at least a tenth of it.
 //!
 //! # A start that collides
 //! Settle says so ([`Settled::start_collisions`]) and first lets the
@@ -887,6 +887,8 @@ pub fn settled_molecule(drug: &Molecule, lig: &Ligand, torsions: &[f64]) -> Mole
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use super::*;
 
     #[test]

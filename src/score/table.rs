@@ -184,6 +184,8 @@ pub fn fast_terms(scoring: Scoring, a: XsType, b: XsType, r2: f64) -> [f64; MAX_
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use super::*;
 
     #[test]
