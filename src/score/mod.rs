@@ -15,7 +15,7 @@
 //!   from a map, reported beside the score.
 //! - [`report`]: a pose's score term by term, per atom, with its hydrogen
 //!   bonds.
-//! - [`settle`]: local minimisation over position, orientation and
+//! - [`settle`](mod@settle): local minimisation over position, orientation and
 //!   torsions (Vina's BFGS) whose steps never collide or tunnel.
 //!
 //! The scoring takes typed atoms (positions and X-Score types, and for the
