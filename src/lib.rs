@@ -60,5 +60,6 @@ pub mod motion;
 pub mod render;
 pub mod rng;
 pub mod scene;
+pub mod score;
 pub mod session;
 pub mod text;
