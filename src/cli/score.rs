@@ -180,10 +180,10 @@ impl AtomId {
             },
             |a| Self {
                 serial: a.serial,
-                name: a.name.clone(),
-                element: a.element.clone(),
-                residue: a.residue.clone(),
-                chain: a.chain.clone(),
+                name: a.name.to_string(),
+                element: a.element.to_string(),
+                residue: a.residue.to_string(),
+                chain: a.chain.to_string(),
                 seq: a.seq,
             },
         )
