@@ -53,6 +53,5 @@ pub mod model;
 pub mod motion;
 #[cfg(feature = "app")]
 pub mod render;
-pub mod rng;
 pub mod scene;
 pub mod session;

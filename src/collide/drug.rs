@@ -8,6 +8,7 @@ use glam::{DMat3, DQuat, DVec3, Mat3, Vec3};
 use wide::f32x4;
 
 use super::grouping::compact_order;
+use super::layers::Layers;
 use super::rule::ContactRule;
 use crate::model::Molecule;
 use crate::motion::Pose;
@@ -119,6 +120,19 @@ impl DrugAtoms {
     /// Prepares `drug` for a receptor whose largest atom radius is
     /// `receptor_max_radius`, judged by `rule`.
     pub fn new(drug: &Molecule, rule: &ContactRule, receptor_max_radius: f32) -> Self {
+        Self::with_layers(drug, rule, receptor_max_radius, &Layers::ALL)
+    }
+
+    /// [`DrugAtoms::new`] with only the drug's layers that `layers` asks
+    /// for (compact groups, group balls, lane copies; to measure what they
+    /// save): without compact groups the atoms go four at a time in file
+    /// order, without group balls or lane copies those are empty.
+    pub fn with_layers(
+        drug: &Molecule,
+        rule: &ContactRule,
+        receptor_max_radius: f32,
+        layers: &Layers,
+    ) -> Self {
         let radius: Vec<f32> = drug.atoms.iter().map(|a| a.radius).collect();
         let polar: Vec<bool> = drug.atoms.iter().map(|a| a.polar).collect();
         let c_plain: Vec<f32> = radius.iter().map(|r| r - rule.overlap).collect();
@@ -139,7 +153,11 @@ impl DrugAtoms {
             .map(|(a, b)| a.max(*b))
             .collect();
         // The groups: runs of four of `members`, atoms close together.
-        let members = compact_order(&drug.local);
+        let members = if layers.compact_groups {
+            compact_order(&drug.local)
+        } else {
+            (0..drug.len() as u32).collect()
+        };
         let grouped = |v: &[f32]| -> Vec<f32> { members.iter().map(|&i| v[i as usize]).collect() };
         let (own_grouped, local_grouped): (Vec<f32>, Vec<Vec3>) = (
             grouped(&own),
@@ -149,10 +167,14 @@ impl DrugAtoms {
             .chunks(4)
             .map(|c| std::array::from_fn(|l| c.get(l).copied().unwrap_or(f32::NEG_INFINITY)))
             .collect();
-        let local_fours = local_grouped
-            .chunks(4)
-            .map(|c| [0, 1, 2].map(|axis| lanes(c, |p| p[axis], 0.0)))
-            .collect();
+        let local_fours = if layers.lane_copies {
+            local_grouped
+                .chunks(4)
+                .map(|c| [0, 1, 2].map(|axis| lanes(c, |p| p[axis], 0.0)))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let balls: Vec<(Vec3, f32, f32)> = local_grouped
             .chunks(4)
             .zip(own_grouped.chunks(4))
@@ -173,6 +195,7 @@ impl DrugAtoms {
             .collect();
         let group_balls = balls
             .chunks(4)
+            .take(if layers.group_balls { usize::MAX } else { 0 })
             .map(|c| Balls4 {
                 centre: [0, 1, 2].map(|axis| lanes(c, |b| b.0[axis], 0.0)),
                 radius: lanes(c, |b| b.1, f32::NEG_INFINITY),
@@ -287,13 +310,14 @@ impl DrugAtoms {
 
     /// Atom offsets from the centre, four atoms (a group: lane `l` of group
     /// `g` is atom [`DrugAtoms::member`]`(4g + l)`) at a time in SIMD lanes
-    /// (x, y, z; the last group padded with zeros).
+    /// (x, y, z; the last group padded with zeros); empty without
+    /// [`Layers::lane_copies`].
     pub fn local_fours(&self) -> &[Lanes3] {
         &self.local_fours
     }
 
     /// Bounding balls of the groups of [`DrugAtoms::local_fours`], four
-    /// groups at a time.
+    /// groups at a time; empty without [`Layers::group_balls`].
     pub fn group_balls(&self) -> &[Balls4] {
         &self.group_balls
     }
@@ -340,7 +364,7 @@ mod tests {
     /// not.
     #[test]
     fn offsets_in_lanes_are_the_offsets() {
-        let mut rng = crate::rng::Rng(11);
+        let mut rng = bump_testkit::Rng(11);
         for n in [1usize, 4, 6, 9] {
             let atoms: Vec<AtomInfo> = (0..n).map(|k| test_carbon(k as i64 + 1)).collect();
             let pos: Vec<DVec3> = (0..n).map(|_| rng.in_box(DVec3::splat(8.0))).collect();

@@ -247,7 +247,7 @@ mod tests {
     /// within rounding, and none within the band of contact.
     #[test]
     fn first_touch_apart_agrees_with_the_closed_form() {
-        let mut rng = crate::rng::Rng(5);
+        let mut rng = bump_testkit::Rng(5);
         let (mut touches, mut misses) = (0, 0);
         for _ in 0..20_000 {
             let step = rng.unit() * rng.range(0.01, 3.0);
@@ -296,7 +296,7 @@ mod tests {
     /// pairs plainly apart.
     #[test]
     fn may_collide_holds_wherever_the_f32_rule_collides() {
-        let mut rng = crate::rng::Rng(11);
+        let mut rng = bump_testkit::Rng(11);
         let (mut colliding, mut apart) = (0, 0);
         for scale in [1.0, 50.0, 500.0, 1e4, MAX_RELATIVE_COORDINATE] {
             for _ in 0..2_000 {

@@ -20,8 +20,6 @@ use crate::motion::{Pose, Screw};
 /// cost per interval (a clearance test per drug atom); a touch ends the
 /// search at its interval. Where an interval finds no candidates the next
 /// one doubles, up to a grid cell, so open space costs fewer intervals.
-/// Measured in instructions per query (callgrind) against fixed intervals
-/// of 1, 1.5 and 2 Å: see `docs/benchmarks.md`.
 const INTERVAL_SWEEP: f64 = 1.0;
 
 /// A receptor atom that may touch drug atom `drug` during one interval.
@@ -160,9 +158,7 @@ fn by_motion<S: Search>(
 }
 
 /// Working buffers of [`swept`], kept per thread so a query allocates
-/// nothing but its result. Buffers kept this way (five of them, before
-/// placements were limited to candidate atoms) took a query's fixed cost
-/// from 0.30 to 0.24 µs on TMP/DHFR.
+/// nothing but its result.
 #[derive(Default)]
 struct Scratch {
     ys: Vec<DVec3>,
@@ -339,14 +335,9 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
             // distance, so a group's ball wholly outside has none. Tested
             // only while the drug's centre is outside it (a drug beside the
             // receptor rather than against it, as the E beside the rings):
-            // most groups are then outside too, and its comparisons prove
-            // them for less than the map's test would (on the E's paths a
-            // query takes 10 % fewer instructions than without it).
-            // Elsewhere it rarely proves a group the map would not: tested
-            // whenever part of the drug was outside the box, it took
-            // 1.6–2.7 % more instructions on the surface approaches of
-            // 1rx1, 4kya and the assembly (the round of commit 37dc96f in
-            // docs/benchmarks.md).
+            // most groups are then outside too, and six comparisons prove
+            // them for less than the map's test. Against a receptor's
+            // surface it rarely proves a group the map would not.
             let grow = DVec3::splat(s_max * half + 2e-3);
             let grown_box = (cm.cmplt(blo - grow) | cm.cmpgt(bhi + grow))
                 .any()
@@ -365,16 +356,10 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
                         todo &= !outside_box(centre, lo.map(|l| l - r), hi.map(|h| h + r));
                     }
                     // A ball proved clear by its reach and this interval's
-                    // slack holds no atom with a candidate: on the scaling
-                    // bench's surface approaches this leaves 2–4 of 8
-                    // groups to place and test atom by atom. For one group
-                    // left it would save at most what it costs (and it
-                    // rarely proves one among the receptor's atoms: with it
-                    // the built-in E's paths through the rings took 8 % more
-                    // instructions, 5 % with this limit). A drug inside the
-                    // box is tested too: on the large receptors' surfaces
-                    // (inside their boxes) that took 3–10 % off a query's
-                    // instructions; in DHFR's pocket it added 3 %.
+                    // slack holds no atom with a candidate, so on a
+                    // receptor's surface most groups are never placed. For
+                    // one group left the test would save at most what it
+                    // costs.
                     if todo.count_ones() > 1
                         && let Some(map) = clearance
                     {
@@ -386,9 +371,13 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
                     todo &= todo - 1;
                     let first_atom = 4 * g;
                     let count = (n - first_atom).min(4);
-                    let (p, slack) = if translation {
+                    let lanes = if translation {
+                        drug.local_fours().get(g)
+                    } else {
+                        None
+                    };
+                    let (p, slack) = if let Some(&local) = lanes {
                         // Every atom has the centre's speed and no rotation.
-                        let local = drug.local_fours()[g];
                         let offset = turn4.as_ref().map_or(local, |m| m.apply(local));
                         ([0, 1, 2].map(|k| offset[k] + cm4[k]), shared_slack4)
                     } else {
@@ -396,11 +385,11 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
                         let mut slack = [shared_slack; 4];
                         for l in 0..count {
                             let i = drug.member(first_atom + l);
-                            let xm = (rot_m * ys[i] + cm).as_vec3();
+                            let xm = (rot_m * y_of(ys, i) + cm).as_vec3();
                             (at[0][l], at[1][l], at[2][l]) = (xm.x, xm.y, xm.z);
                             // f32 slack well above the rounding of receptor-frame
                             // coordinates, so the f32 tests below keep a superset.
-                            slack[l] = (speeds[i] * half + tol) as f32 + 1e-3;
+                            slack[l] = (speed_of(speeds, i) * half + tol) as f32 + 1e-3;
                         }
                         (at.map(f32x4::from), f32x4::from(slack))
                     };
@@ -419,9 +408,7 @@ fn swept_with<const TRANSLATION: bool, S: Search>(
                             continue;
                         }
                         // As `drug.contact(i, ..)`, its parts looked up
-                        // once per atom, not per receptor atom in reach: a
-                        // load and a branch on polarity fewer per atom, and
-                        // 1.9–3.6 % off a query's time.
+                        // once per atom, not per receptor atom in reach.
                         let searched = drug.searched(first_atom + l);
                         let (i, parts, slack) = (searched.atom, searched.parts, slack[l]);
                         let far = searched.reach + slack;
@@ -571,8 +558,7 @@ fn outside_box(p: Lanes3, lo: Lanes3, hi: Lanes3) -> u32 {
     out.to_bitmask() & 0b1111
 }
 
-/// `x.floor()` without the library call it is on baseline x86-64 (some
-/// 20 instructions, four or five times a query).
+/// `x.floor()` without the library call it is on baseline x86-64.
 #[inline(always)]
 fn floor(x: f64) -> f64 {
     // Below 2⁵² in magnitude the truncation to an integer is exact; above
@@ -643,7 +629,7 @@ mod tests {
             f64::MIN_POSITIVE,
             -f64::MIN_POSITIVE,
         ];
-        let mut rng = crate::rng::Rng(7);
+        let mut rng = bump_testkit::Rng(7);
         values.extend((0..10_000).map(|_| rng.range(-1e6, 1e6)));
         for x in values {
             // Equal as numbers (a negative zero may come out positive).

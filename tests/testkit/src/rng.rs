@@ -1,5 +1,5 @@
-//! A tiny seeded random generator (xorshift64*) for the benchmark report and
-//! the tests: the same seed gives the same queries on every machine, with no
+//! A tiny seeded random generator (xorshift64*) for the benchmarks and the
+//! tests: the same seed gives the same queries on every machine, with no
 //! seed crate; and [`sphere_directions`], the evenly spread directions they
 //! search or sample along.
 
