@@ -170,20 +170,20 @@ struct Row {
 }
 
 /// A configuration ready to run: its collider and drugs.
-struct Ready {
-    collider: Collider,
+struct Ready<'a> {
+    collider: &'a Collider,
     drugs: Vec<DrugAtoms>,
 }
 
 /// One pass over `w`'s queries with `r`; the answers, for comparing.
-fn pass(w: &Workload, r: &Ready, result: &mut TouchResult, answers: Option<&mut Vec<u64>>) {
+fn pass(w: &Workload, r: &Ready<'_>, result: &mut TouchResult, answers: Option<&mut Vec<u64>>) {
     let opts = TouchOptions::default();
     let mut keep = answers;
     for (k, s, e) in &w.queries {
         let drug = &r.drugs[*k];
         match w.query {
             Query::Touch => {
-                move_to_touch_into(&r.collider, drug, s, std::hint::black_box(e), &opts, result);
+                move_to_touch_into(r.collider, drug, s, std::hint::black_box(e), &opts, result);
                 if let Some(a) = keep.as_deref_mut() {
                     a.push(result.t.to_bits());
                     a.extend(result.contacts.iter().map(|p| {
@@ -195,7 +195,7 @@ fn pass(w: &Workload, r: &Ready, result: &mut TouchResult, answers: Option<&mut 
             }
             Query::Check => {
                 for pose in [s, e] {
-                    let pairs = check(&r.collider, drug, std::hint::black_box(pose));
+                    let pairs = check(r.collider, drug, std::hint::black_box(pose));
                     if let Some(a) = keep.as_deref_mut() {
                         a.extend(
                             pairs
@@ -214,17 +214,27 @@ fn pass(w: &Workload, r: &Ready, result: &mut TouchResult, answers: Option<&mut 
 fn measure(ctx: &Context, w: &Workload) -> Row {
     let rule = ContactRule::default();
     let configs = configurations();
-    let ready: Vec<Ready> = configs
+    // One collider for each set of the collider's own layers (the others
+    // are the drug's).
+    let key = |l: &Layers| (l.clearance_map, l.padded_rows);
+    let mut colliders: Vec<((bool, bool), Collider)> = Vec::new();
+    for (_, layers) in &configs {
+        if !colliders.iter().any(|(k, _)| *k == key(layers)) {
+            let c = Collider::build_with(&w.receptor, &rule, ColliderKind::Hashed, layers);
+            c.wait_for_clearance();
+            colliders.push((key(layers), c));
+        }
+    }
+    let ready: Vec<Ready<'_>> = configs
         .iter()
-        .map(|(_, layers)| {
-            let collider = Collider::build_with(&w.receptor, &rule, ColliderKind::Hashed, layers);
-            collider.wait_for_clearance();
+        .filter_map(|(_, layers)| {
+            let collider = &colliders.iter().find(|(k, _)| *k == key(layers))?.1;
             let drugs = w
                 .drugs
                 .iter()
                 .map(|d| DrugAtoms::with_layers(d, &rule, collider.max_radius(), layers))
                 .collect();
-            Ready { collider, drugs }
+            Some(Ready { collider, drugs })
         })
         .collect();
     let mut result = TouchResult::default();

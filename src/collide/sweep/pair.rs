@@ -50,6 +50,18 @@ fn first_positive_root(f: f64, b: f64, a: f64) -> f64 {
     }
 }
 
+/// Where the atom at offset `y` from the centre at the start is at `t`.
+/// A translation turns nothing (and a quaternion product by the identity
+/// would cost a few dozen flops to change nothing).
+#[inline(always)]
+fn position_at(sc: &Screw, y: DVec3, t: f64) -> DVec3 {
+    if sc.is_translation() {
+        y + sc.centre_at(t)
+    } else {
+        sc.rotation_at(t) * y + sc.centre_at(t)
+    }
+}
+
 /// Per-query constants of the screw for one atom.
 pub(super) struct Mover<'a> {
     pub(super) screw: &'a Screw,
@@ -65,6 +77,7 @@ impl Mover<'_> {
     /// motion; receptor atom at `q`; contact distance `c`) is within tolerance
     /// of contact and approaching; `None` when it is not before `limit`.
     #[allow(clippy::too_many_arguments)] // one pair's state; a struct would only rename it
+    #[inline(always)]
     pub(super) fn first_touch(
         &self,
         y: DVec3,
@@ -77,15 +90,6 @@ impl Mover<'_> {
         limit: f64,
     ) -> Option<f64> {
         let sc = self.screw;
-        // A translation turns nothing (and a quaternion product by the
-        // identity would cost a few dozen flops to change nothing).
-        let at = |t: f64| {
-            if sc.is_translation() {
-                y + sc.centre_at(t)
-            } else {
-                sc.rotation_at(t) * y + sc.centre_at(t)
-            }
-        };
         // A translation's usual pair, well apart: no square root for its
         // distance (the closed form needs only its square).
         if sc.is_translation() {
@@ -149,7 +153,7 @@ impl Mover<'_> {
                 return Some(t);
             }
             t += tau;
-            x = at(t);
+            x = position_at(sc, y, t);
             dist = (x - q).length();
         }
         Some(t)
