@@ -16,9 +16,6 @@
 //! - [`Layers::group_balls`]: each group's bounding ball tested first
 //!   (against the receptor's box and the clearance map), four groups at
 //!   once, so a group far from the receptor costs one test, not four.
-//! - [`Layers::lane_copies`]: the drug's offsets kept four atoms to a SIMD
-//!   lane group, so a translation places four atoms with three f32
-//!   additions instead of one f64 product each.
 
 /// Which optional layers a collider and a drug use (all by default).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -31,8 +28,6 @@ pub struct Layers {
     pub compact_groups: bool,
     /// The groups' bounding balls are tested before their atoms.
     pub group_balls: bool,
-    /// The drug's offsets are kept in SIMD lanes for translations.
-    pub lane_copies: bool,
 }
 
 impl Default for Layers {
@@ -48,16 +43,14 @@ impl Layers {
         padded_rows: true,
         compact_groups: true,
         group_balls: true,
-        lane_copies: true,
     };
 
     /// The layers' names, in the order of the fields.
-    pub const NAMES: [&'static str; 5] = [
+    pub const NAMES: [&'static str; 4] = [
         "clearance map",
         "padded rows",
         "compact groups",
         "group balls",
-        "lane copies",
     ];
 
     /// Every layer on but the one named `name` (one of [`Layers::NAMES`]);
@@ -69,7 +62,6 @@ impl Layers {
             "padded rows" => &mut l.padded_rows,
             "compact groups" => &mut l.compact_groups,
             "group balls" => &mut l.group_balls,
-            "lane copies" => &mut l.lane_copies,
             _ => return None,
         };
         *flag = false;
@@ -91,7 +83,6 @@ mod tests {
                 l.padded_rows,
                 l.compact_groups,
                 l.group_balls,
-                l.lane_copies,
             ];
             assert_eq!(flags.iter().filter(|f| !**f).count(), 1, "{name}");
             assert!(!seen.contains(&l), "{name}");

@@ -45,12 +45,11 @@ pub(super) struct Candidate {
 
 /// What a query fixes before it walks the intervals: the motion, the
 /// drug's speeds and offsets, the intervals, the receptor's box and the
-/// drug's groups as a translation places them. `TRANSLATION`: the motion
-/// is a pure translation (every atom at the centre's speed, no rotation);
-/// `LANES`: a translation places the drug's atoms from their lane copies
-/// ([`DrugAtoms::local_fours`]) rather than one at a time. Both are decided
-/// at compile time, so each search carries only its own placement.
-pub(super) struct Plan<'a, const TRANSLATION: bool, const LANES: bool> {
+/// drug's groups' bounding balls as a translation places them.
+/// `TRANSLATION`: the motion is a pure translation (every atom at the
+/// centre's speed, no rotation), decided at compile time, so each search
+/// carries only its own placement.
+pub(super) struct Plan<'a, const TRANSLATION: bool> {
     pub(super) collider: &'a Collider,
     pub(super) drug: &'a DrugAtoms,
     pub(super) screw: &'a Screw,
@@ -77,9 +76,8 @@ pub(super) struct Plan<'a, const TRANSLATION: bool, const LANES: bool> {
     /// tolerance.
     pub(super) blo: DVec3,
     pub(super) bhi: DVec3,
-    /// A translation's turned drug (`Turn4`) and its groups' bounding
-    /// balls, four groups at a time (none for a screw).
-    pub(super) turn4: Option<Turn4>,
+    /// A translation's groups' bounding balls, turned as the drug is,
+    /// four groups at a time (none for a screw).
     pub(super) balls: &'a [Balls4],
     /// The collider's clearance map, looked up once: it may still be
     /// building on its own thread.
@@ -140,7 +138,7 @@ pub(super) fn motion_speeds<const TRANSLATION: bool>(
     }
 }
 
-impl<'a, const TRANSLATION: bool, const LANES: bool> Plan<'a, TRANSLATION, LANES> {
+impl<'a, const TRANSLATION: bool> Plan<'a, TRANSLATION> {
     /// The plan for `screw`, whose fastest atom moves at `s_max` (from
     /// [`motion_speeds`], which filled `ys` and `speeds`), with `balls` as a
     /// working buffer.
@@ -176,19 +174,15 @@ impl<'a, const TRANSLATION: bool, const LANES: bool> Plan<'a, TRANSLATION, LANES
         } else {
             near_box(screw, blo, bhi, drug.extent, intervals)
         };
-        // A translation places the atoms four at a time from their offsets
-        // at the start, in lanes (a screw places each in f64): the drug's
-        // own for an unturned drug, else turned group by group, only for
-        // the groups whose bounding balls (turned once per query) come near
-        // the receptor.
-        let (turn4, balls): (Option<Turn4>, &[Balls4]) = if !TRANSLATION || first >= past {
-            (None, &[])
+        // A translation tests its groups' bounding balls (turned once per
+        // query) before their atoms; a screw's atoms all go on.
+        let balls: &[Balls4] = if !TRANSLATION || first >= past {
+            &[]
         } else if start.rotation == DQuat::IDENTITY {
-            (None, drug.group_balls())
+            drug.group_balls()
         } else {
-            let turn = Turn4::new(start.rotation);
-            drug.turned_balls_into(&turn, balls);
-            (Some(turn), balls)
+            drug.turned_balls_into(&Turn4::new(start.rotation), balls);
+            balls
         };
         Self {
             collider,
@@ -208,7 +202,6 @@ impl<'a, const TRANSLATION: bool, const LANES: bool> Plan<'a, TRANSLATION, LANES
             past,
             blo,
             bhi,
-            turn4,
             balls,
             clearance: collider.clearance(),
             mover: Mover {
@@ -351,15 +344,6 @@ impl<'a, const TRANSLATION: bool, const LANES: bool> Plan<'a, TRANSLATION, LANES
     /// keep a superset).
     #[inline(always)]
     fn place_group(&self, g: usize, iv: &Interval, r: &Reach) -> (Lanes3, f32x4) {
-        if TRANSLATION && LANES {
-            let local = self.drug.local_fours()[g];
-            // Every atom has the centre's speed and no rotation.
-            let offset = self.turn4.as_ref().map_or(local, |m| m.apply(local));
-            return (
-                [0, 1, 2].map(|k| offset[k] + r.cm4[k]),
-                f32x4::splat(r.shared_slack),
-            );
-        }
         let mut at = [[0.0f32; 4]; 3];
         let mut slack = [r.shared_slack; 4];
         for l in 0..(self.drug.len() - 4 * g).min(4) {

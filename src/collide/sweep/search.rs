@@ -129,8 +129,7 @@ pub(super) fn swept(
 
 /// [`swept_with`] for the kind of motion `screw` is: a translation gets
 /// its own copy of the search, with every branch between the two kinds of
-/// motion decided at compile time (and one more for a drug without lane
-/// copies, [`crate::collide::Layers::lane_copies`], measured only).
+/// motion decided at compile time.
 #[inline(always)]
 fn by_motion<S: Search>(
     scratch: &mut Scratch,
@@ -141,16 +140,10 @@ fn by_motion<S: Search>(
     tol: f64,
     out: &mut TouchResult,
 ) {
-    match (screw.is_translation(), drug.local_fours().is_empty()) {
-        (true, false) => {
-            swept_with::<true, true, S>(scratch, collider, search, drug, screw, tol, out)
-        }
-        (true, true) => {
-            swept_with::<true, false, S>(scratch, collider, search, drug, screw, tol, out)
-        }
-        (false, _) => {
-            swept_with::<false, false, S>(scratch, collider, search, drug, screw, tol, out)
-        }
+    if screw.is_translation() {
+        swept_with::<true, S>(scratch, collider, search, drug, screw, tol, out)
+    } else {
+        swept_with::<false, S>(scratch, collider, search, drug, screw, tol, out)
     }
 }
 
@@ -181,7 +174,7 @@ thread_local! {
 /// inlined (so not inlined itself into [`swept`], which would then carry
 /// all four).
 #[inline(never)]
-fn swept_with<const TRANSLATION: bool, const LANES: bool, S: Search>(
+fn swept_with<const TRANSLATION: bool, S: Search>(
     scratch: &mut Scratch,
     collider: &Collider,
     search: &S,
@@ -206,8 +199,7 @@ fn swept_with<const TRANSLATION: bool, const LANES: bool, S: Search>(
             *v = pairs_within(collider, drug, p, tol as f32);
         });
     }
-    let plan =
-        Plan::<TRANSLATION, LANES>::new(collider, drug, screw, tol, s_max, ys, speeds, balls);
+    let plan = Plan::<TRANSLATION>::new(collider, drug, screw, tol, s_max, ys, speeds, balls);
     let mut start_colliding: Vec<Pair> = Vec::new();
     let mut t_hit = 1.0f64;
     let mut last_ta = 0.0f64;
@@ -274,8 +266,8 @@ struct Stop {
 /// among the last interval's candidates (`cands`) when it lies in that
 /// interval.
 #[inline(always)]
-fn confirm<const TRANSLATION: bool, const LANES: bool>(
-    plan: &Plan<'_, TRANSLATION, LANES>,
+fn confirm<const TRANSLATION: bool>(
+    plan: &Plan<'_, TRANSLATION>,
     stop: Stop,
     cands: &[Candidate],
     found: &mut Vec<(Pair, bool)>,
