@@ -11,7 +11,7 @@
 //! - `scaling/*`: 30-atom drugs against receptors from 1.3k to 272k atoms:
 //!   16 patches of the receptor's surface (an outermost atom in each of 16
 //!   directions and its 29 nearest neighbours, pushed out until free; the
-//!   first, about the outermost atom of all, is `bump bench`'s), cycled: the
+//!   first, about the outermost atom of all, is the report's), cycled: the
 //!   static check at the end pose and a 1.5 Å move-to-touch back towards the
 //!   surface, for each collider, the thesis method and parry3d (the cast
 //!   alone, and with contacts).
@@ -33,34 +33,24 @@ use bump::collide::{
 };
 use bump::model::{self, LigandSpec, LoadOptions, Molecule};
 use bump::motion::{Pose, Screw};
-use bump::rng::sphere_directions;
+use bump_testkit::sphere_directions;
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use parry3d::math::Pose as PPose;
 use parry3d::query::{self, NonlinearRigidMotion};
 
-// The parry3d baseline `bump bench` runs, so both time the same code.
-#[path = "../src/cli/bench/parry.rs"]
-mod parry;
-use parry::{Spheres, pose as ppose};
-// The scaling drugs: `bump bench` times the first of them.
-#[path = "../src/cli/bench/surface.rs"]
-#[allow(dead_code)] // `surface_drug`, the single patch, is `bump bench`'s.
-mod surface;
-use surface::surface_drugs;
+// The parry3d baseline and the scaling drugs the report times too.
+use bump_testkit::parry::{self, Spheres, pose as ppose};
+use bump_testkit::surface::surface_drugs;
 
 /// Surface patches per receptor in the scaling group, timed in turn.
 const SURFACE_PATCHES: usize = 16;
 
+/// The test structures (a skip with a message when they are missing; a
+/// failure under `CI=true`).
 fn data_dir() -> Option<PathBuf> {
-    let d = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb"));
-    if d.join("MANIFEST.md").is_file() {
-        Some(d)
-    } else {
-        eprintln!("SKIP: {} not found: no benchmarks run", d.display());
-        None
-    }
+    bump_testkit::shared_pdb()
 }
 
 /// `col` once its clearance map (built on its own thread) is there, so

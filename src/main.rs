@@ -1,5 +1,6 @@
-//! The `bump` command line: `check`, `touch` and `stats` drive the docking
-//! core directly; with no subcommand it describes the scene it would open.
+//! The `bump` command line: with no subcommand the docking window (or a
+//! headless replay); `check`, `touch`, `stats`, `render` and `devices`
+//! drive the docking core (and the renderer) directly.
 
 mod cli;
 

@@ -1,7 +1,8 @@
-//! A tiny seeded random generator (xorshift64*) for the benchmark report and
-//! the tests: the same seed gives the same queries on every machine, with no
-//! seed crate; and [`sphere_directions`], the evenly spread directions they
-//! search or sample along.
+//! A tiny seeded random generator (xorshift64*): the same seed gives the
+//! same draws on every machine, with no seed crate. `bump steer`'s seeded
+//! torsions, the tests and the benchmarks use it; and
+//! [`sphere_directions`], evenly spread directions to start, search or
+//! sample along.
 
 use glam::DVec3;
 

@@ -142,7 +142,7 @@ fn a_turning_push_slides_past_the_rings() {
 #[test]
 fn slides_never_go_against_the_push() {
     let s = scene(RadiiSet::Bondi, ColliderKind::Hashed);
-    let mut rng = bump::rng::Rng(0x51de);
+    let mut rng = bump_testkit::Rng(0x51de);
     let opts = TouchOptions::default();
     let (mut slid, mut worst) = (0, f64::INFINITY);
     for _ in 0..400 {

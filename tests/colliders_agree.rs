@@ -5,15 +5,13 @@
 //! at the pose it returns.
 
 mod common;
-#[path = "../src/cli/bench/surface.rs"]
-#[allow(dead_code)]
-mod surface;
 
 use bump::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, TouchOptions, check, move_to_touch,
     pairs_within,
 };
 use bump::motion::Pose;
+use bump_testkit::surface;
 use common::{Rng, all_colliders, random_molecule};
 use glam::{DQuat, DVec3};
 use proptest::prelude::*;

@@ -4,9 +4,6 @@
 //! numerical stress cases. Worst errors are printed (`--nocapture`).
 
 mod common;
-// The parry3d baseline the benchmarks time, checked here against bump.
-#[path = "../src/cli/bench/parry.rs"]
-mod parry;
 
 use bump::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, TouchResult,
@@ -14,6 +11,7 @@ use bump::collide::{
 };
 use bump::model::Molecule;
 use bump::motion::{Pose, Screw};
+use bump_testkit::parry;
 use common::*;
 use glam::{DQuat, DVec3};
 
@@ -129,7 +127,7 @@ fn screw_motions_match_a_dense_search() {
         let (start, end) = random_query(&mut rng, &s, true);
         let screw = Screw::between(start, end);
         let dense = dense_screw_toi(&s.rule, &s.receptor, &s.drug, &screw, 4000);
-        let smax = max_speed(&s.atoms, &screw);
+        let smax = max_speed(&s.drug, &screw);
         for c in &s.cols {
             let r = move_to_touch(c, &s.atoms, &start, &end, &TouchOptions::default());
             let g = min_gap_f64(&s.rule, &s.receptor, &s.drug, &r.pose);
@@ -172,7 +170,7 @@ fn agrees_with_parry3d_shape_casts() {
         let (start, end) = random_query(&mut rng, &s, rotate);
         let r = move_to_touch(&s.cols[2], &s.atoms, &start, &end, &TouchOptions::default());
         let screw = Screw::between(start, end);
-        let smax = max_speed(&s.atoms, &screw);
+        let smax = max_speed(&s.drug, &screw);
         // The baseline's contact list, at bump's stop, is bump's own.
         let ours_pairs: Vec<(u32, u32)> = r.contacts.iter().map(|p| (p.receptor, p.drug)).collect();
         if !ours_pairs.is_empty() {

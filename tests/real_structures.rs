@@ -7,8 +7,8 @@ mod common;
 use bump::collide::{ColliderKind, ContactRule, TouchOptions};
 use bump::model::{self, LigandSpec, LoadOptions, Molecule};
 use bump::motion::Pose;
-use bump::rng::sphere_directions;
 use bump::scene::Scene;
+use bump_testkit::sphere_directions;
 use glam::DVec3;
 
 const COMPLEXES: &[(&str, &str)] = &[

@@ -17,10 +17,10 @@ use bump::collide::ColliderKind;
 use bump::input::{Controllers, DeviceInfo, JoystickMap, RawEvent};
 use bump::model::{self, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
 use bump::motion::Pose;
-use bump::rng::sphere_directions;
 use bump::session::{
     Command, FrameInput, LogFrame, LogWriter, Mode, Motion6, Session, SessionLog, Settings, replay,
 };
+use bump_testkit::sphere_directions;
 use glam::{DQuat, DVec3};
 
 const DT: f64 = 1.0 / 60.0;

@@ -4,7 +4,7 @@
 //! Bounded for CI: 10⁵ random queries by default; `BUMP_STRESS=full` runs
 //! 10⁷ (and a number, e.g. `BUMP_STRESS=2000000`, runs that many).
 //!
-//! References (`bump::collide::oracle`, all f64 over every pair): the
+//! References (`bump_testkit::oracle`, all f64 over every pair): the
 //! closed-form time of impact for translations, and for screw motions a
 //! Lipschitz certificate that no pose on the allowed part of the path
 //! overlaps (it cannot miss a thin wall). Counts and worst cases are printed
@@ -12,11 +12,11 @@
 
 mod common;
 
-use bump::collide::oracle::{certify_free_path, min_gap, translation_toi};
 use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, TouchOptions, move_to_touch};
 use bump::model::{Molecule, RadiiSet, builtin};
 use bump::motion::{Pose, Screw};
 use bump::session::{Command, FrameInput, Session, Settings};
+use bump_testkit::oracle::{certify_free_path, min_gap, translation_toi};
 use common::*;
 use glam::{DMat3, DQuat, DVec3};
 

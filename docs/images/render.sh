@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Renders the README's depth-cue and stereo pictures with `bump render`
+# Renders the depth-cue and stereo pictures of docs/viewing.md with `bump render`
 # (offscreen; Mesa's CPU Vulkan where there is no GPU). Run from the crate
 # root after `cargo build --release`: bash docs/images/render.sh
 set -euo pipefail

@@ -7,8 +7,6 @@ macro_rules! outln {
     ($($arg:tt)*) => { $crate::cli::write_line(format_args!($($arg)*)) };
 }
 
-#[cfg(feature = "app")]
-mod bench;
 mod check;
 #[cfg(feature = "app")]
 mod devices;
@@ -58,9 +56,6 @@ enum Command {
     /// List joysticks and gamepads and show their raw axes live.
     #[cfg(feature = "app")]
     Devices(devices::DevicesArgs),
-    /// The benchmark report: run time against error, scaling, Table 1, frame costs.
-    #[cfg(feature = "app")]
-    Bench(bench::BenchArgs),
 }
 
 /// Writes one line to stdout; exits 0 on a broken pipe, 2 on any other error.
@@ -89,8 +84,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Render(a)) => render::run(&a),
         #[cfg(feature = "app")]
         Some(Command::Devices(a)) => devices::run(&a),
-        #[cfg(feature = "app")]
-        Some(Command::Bench(a)) => bench::run(&a),
         None => window::run(&cli.files, &cli.window),
     }
 }

@@ -53,7 +53,7 @@ const MAX_HASH_CELLS: usize = 1 << 26;
 
 /// Most sphere–cell tests one file may cost: about 10 s. The thesis's cell
 /// (one atom diameter) costs at most 27 per atom; a cell of 0.5 Å on the
-/// 272k-atom assembly took 25 s and 2 GB.
+/// 272k-atom assembly costs some 25 s and 2 GB.
 const MAX_CELL_VISITS: f64 = 5e7;
 
 /// Sphere–cell tests that counting `mol` with cells of `cell` Å makes.

@@ -73,12 +73,12 @@ pub fn visit_pairs<F: FnMut(Pair) -> bool>(
     let turn = (rel.rotation != DQuat::IDENTITY).then(|| Turn4::new(rel.rotation));
     let t4 = [t.x, t.y, t.z].map(|v| f32x4::splat(v as f32));
     let groups = drug.len().div_ceil(4);
-    for (s, balls) in drug.group_balls().iter().enumerate() {
+    for s in 0..groups.div_ceil(4) {
         let mut todo = (1u32 << (groups - 4 * s).min(4)) - 1;
         // A ball the map proves clear by its reach (its radius plus its
         // atoms' largest own part of the contact distance) holds no atom
         // with a pair: one test for up to four groups.
-        if let Some(map) = clearance {
+        if let (Some(map), Some(balls)) = (clearance, drug.group_balls().get(s)) {
             let c = turn
                 .as_ref()
                 .map_or(balls.centre, |m| m.apply(balls.centre));
@@ -109,9 +109,8 @@ fn visit_group<F: FnMut(Pair) -> bool>(
     f: &mut F,
 ) -> bool {
     let extra_room = extra.max(0.0);
-    // Four atoms at a time against the map's nearest vertices, in lanes (as
-    // move-to-touch does; testing one atom at a time took a quarter of a
-    // check's instructions); an atom it does not prove clear is searched.
+    // Four atoms at a time against the map's nearest vertices, in lanes, as
+    // move-to-touch does; an atom it does not prove clear is searched.
     let count = (drug.len() - 4 * g).min(4);
     let mut at = [Vec3::ZERO; 4];
     for (l, x) in at.iter_mut().enumerate().take(count) {
@@ -158,8 +157,7 @@ fn visit_group<F: FnMut(Pair) -> bool>(
 pub fn pairs_within(collider: &Collider, drug: &DrugAtoms, rel: &Pose, extra: f32) -> Vec<Pair> {
     // Gathered in a per-thread buffer and copied out at their exact size:
     // one allocation (none when there are no pairs) instead of a vector's
-    // growth by reallocation, which took a quarter of a check's
-    // instructions with six pairs.
+    // growth by reallocation, which would cost more than the search.
     let gather = |found: &mut Vec<Pair>| {
         found.clear();
         visit_pairs(collider, drug, rel, extra, |p| {

@@ -8,6 +8,7 @@ use glam::{DMat3, DQuat, DVec3, Mat3, Vec3};
 use wide::f32x4;
 
 use super::grouping::compact_order;
+use super::layers::Layers;
 use super::rule::ContactRule;
 use crate::model::Molecule;
 use crate::motion::Pose;
@@ -42,7 +43,7 @@ impl Turn4 {
 }
 
 /// Bounding balls of four groups of four atoms (see
-/// [`DrugAtoms::local_fours`]), in SIMD lanes: a group's atoms lie within
+/// [`DrugAtoms::group_balls`]), in SIMD lanes: a group's atoms lie within
 /// `radius` of `centre` (lanes past the last group: radius −∞).
 #[derive(Debug, Clone, Copy)]
 pub struct Balls4 {
@@ -102,10 +103,7 @@ pub struct DrugAtoms {
     /// What a search needs of each atom, in group order (as `members`):
     /// one load for what would be four, from four arrays.
     searched: Vec<Searched>,
-    /// `local` four atoms at a time (each group's): x, y and z in SIMD
-    /// lanes, the last group padded with the origin.
-    local_fours: Vec<Lanes3>,
-    /// Bounding balls of the groups of `local_fours`, four groups at a time.
+    /// Bounding balls of the groups (of `members`), four groups at a time.
     group_balls: Vec<Balls4>,
     /// Largest contact distance atom `i` can have with any receptor atom.
     pub reach: Vec<f32>,
@@ -119,7 +117,25 @@ impl DrugAtoms {
     /// Prepares `drug` for a receptor whose largest atom radius is
     /// `receptor_max_radius`, judged by `rule`.
     pub fn new(drug: &Molecule, rule: &ContactRule, receptor_max_radius: f32) -> Self {
-        Self::with_groups(drug, rule, receptor_max_radius, compact_order(&drug.local))
+        Self::with_layers(drug, rule, receptor_max_radius, &Layers::ALL)
+    }
+
+    /// [`DrugAtoms::new`] with only the drug's layers that `layers` asks
+    /// for (compact groups, group balls; to measure what they save):
+    /// without compact groups the atoms go four at a time in file order,
+    /// without group balls there are none.
+    pub fn with_layers(
+        drug: &Molecule,
+        rule: &ContactRule,
+        receptor_max_radius: f32,
+        layers: &Layers,
+    ) -> Self {
+        let members = if layers.compact_groups {
+            compact_order(&drug.local)
+        } else {
+            (0..drug.len() as u32).collect()
+        };
+        Self::build(drug, rule, receptor_max_radius, layers, members)
     }
 
     /// [`Self::new`] with the atoms grouped in runs of four of `members` (a
@@ -148,6 +164,17 @@ impl DrugAtoms {
             },
             "DrugAtoms::with_groups: members must be a permutation of the atoms"
         );
+        Self::build(drug, rule, receptor_max_radius, &Layers::ALL, members)
+    }
+
+    /// The drug's copy with its atoms grouped in runs of four of `members`.
+    fn build(
+        drug: &Molecule,
+        rule: &ContactRule,
+        receptor_max_radius: f32,
+        layers: &Layers,
+        members: Vec<u32>,
+    ) -> Self {
         let radius: Vec<f32> = drug.atoms.iter().map(|a| a.radius).collect();
         let polar: Vec<bool> = drug.atoms.iter().map(|a| a.polar).collect();
         let c_plain: Vec<f32> = radius.iter().map(|r| r - rule.overlap).collect();
@@ -177,10 +204,6 @@ impl DrugAtoms {
             .chunks(4)
             .map(|c| std::array::from_fn(|l| c.get(l).copied().unwrap_or(f32::NEG_INFINITY)))
             .collect();
-        let local_fours = local_grouped
-            .chunks(4)
-            .map(|c| [0, 1, 2].map(|axis| lanes(c, |p| p[axis], 0.0)))
-            .collect();
         let balls: Vec<(Vec3, f32, f32)> = local_grouped
             .chunks(4)
             .zip(own_grouped.chunks(4))
@@ -201,6 +224,7 @@ impl DrugAtoms {
             .collect();
         let group_balls = balls
             .chunks(4)
+            .take(if layers.group_balls { usize::MAX } else { 0 })
             .map(|c| Balls4 {
                 centre: [0, 1, 2].map(|axis| lanes(c, |b| b.0[axis], 0.0)),
                 radius: lanes(c, |b| b.1, f32::NEG_INFINITY),
@@ -235,7 +259,6 @@ impl DrugAtoms {
             own_fours,
             searched,
             members,
-            local_fours,
             group_balls,
             reach,
             max_reach,
@@ -313,15 +336,9 @@ impl DrugAtoms {
         (*m * self.local[i].as_dvec3() + t).as_vec3()
     }
 
-    /// Atom offsets from the centre, four atoms (a group: lane `l` of group
-    /// `g` is atom [`DrugAtoms::member`]`(4g + l)`) at a time in SIMD lanes
-    /// (x, y, z; the last group padded with zeros).
-    pub fn local_fours(&self) -> &[Lanes3] {
-        &self.local_fours
-    }
-
-    /// Bounding balls of the groups of [`DrugAtoms::local_fours`], four
-    /// groups at a time.
+    /// Bounding balls of the groups (group `g` holds atoms
+    /// [`DrugAtoms::member`]`(4g .. 4g + 4)`), four groups at a time; empty
+    /// without [`Layers::group_balls`].
     pub fn group_balls(&self) -> &[Balls4] {
         &self.group_balls
     }
@@ -362,13 +379,12 @@ mod tests {
     use crate::model::AtomInfo;
     use crate::model::molecule::test_carbon;
 
-    /// `local_fours` holds `local` in lanes (padded with the origin),
-    /// `Turn4` rotates them to within a few f32 roundings of `rotated`'s
-    /// f64 values, and every atom lies inside its group's ball, turned or
-    /// not.
+    /// The groups hold every atom once, `Turn4` rotates points to within
+    /// a few f32 roundings of `rotated`'s f64 values, and every atom lies
+    /// inside its group's ball, turned or not.
     #[test]
-    fn offsets_in_lanes_are_the_offsets() {
-        let mut rng = crate::rng::Rng(11);
+    fn atoms_lie_in_their_groups_balls() {
+        let mut rng = bump_testkit::Rng(11);
         for n in [1usize, 4, 6, 9] {
             let atoms: Vec<AtomInfo> = (0..n).map(|k| test_carbon(k as i64 + 1)).collect();
             let pos: Vec<DVec3> = (0..n).map(|_| rng.in_box(DVec3::splat(8.0))).collect();
@@ -381,19 +397,12 @@ mod tests {
                 let [x, y, z] = g.map(|v| v.to_array()[i % 4]);
                 Vec3::new(x, y, z)
             };
-            let groups = drug.local_fours();
-            assert_eq!(groups.len(), n.div_ceil(4));
-            // Lane k holds atom member(k), each atom once.
+            let groups = n.div_ceil(4);
+            // Member k is each atom once.
             let mut seen = vec![false; n];
-            for k in 0..groups.len() * 4 {
-                let want = if k < n {
-                    let i = drug.member(k);
-                    assert!(!std::mem::replace(&mut seen[i], true), "atom {i} twice");
-                    drug.local[i]
-                } else {
-                    Vec3::ZERO
-                };
-                assert_eq!(lane(&groups[k / 4], k), want, "lane {k} of {n}");
+            for k in 0..n {
+                let i = drug.member(k);
+                assert!(!std::mem::replace(&mut seen[i], true), "atom {i} twice");
             }
             let mut balls = Vec::new();
             for _ in 0..20 {
@@ -408,7 +417,9 @@ mod tests {
                 let rotated = drug.rotated(&pose);
                 for k in 0..n {
                     let (i, y) = (drug.member(k), rotated[drug.member(k)]);
-                    let got = lane(&turn.apply(groups[k / 4]), k).as_dvec3();
+                    let x = drug.local[i];
+                    let one = [x.x, x.y, x.z].map(f32x4::splat);
+                    let got = lane(&turn.apply(one), 0).as_dvec3();
                     assert!((got - y).length() < 1e-5, "atom {i}: {got} vs {y}");
                     // Inside its group's ball, turned with it.
                     let (g, b) = (k / 4, &balls[k / 16]);
@@ -425,10 +436,7 @@ mod tests {
                 .radius
                 .to_array();
             for (g, r) in last.iter().enumerate() {
-                assert_eq!(
-                    *r == f32::NEG_INFINITY,
-                    (balls.len() - 1) * 4 + g >= groups.len()
-                );
+                assert_eq!(*r == f32::NEG_INFINITY, (balls.len() - 1) * 4 + g >= groups);
             }
         }
     }

@@ -8,14 +8,17 @@
 //! [`sweep`] moves the drug to touch without tunnelling; [`response`]
 //! turns a proposed step into the session's answer (stop, touch, slide,
 //! pass); [`stats`] measures grid occupancy (the thesis's Table 1);
-//! [`oracle`] gives exact f64 answers to measure move-to-touch against.
+//! [`layers`] names the optional layers that make queries fast, each of
+//! which can be turned off to measure what it saves.
+//! The exact f64 answers that tests and benchmarks measure these against
+//! live with them, in the dev-only crate `bump-testkit`.
 
 pub mod check;
 pub mod clearance;
 pub mod collider;
 pub mod drug;
 pub mod grouping;
-pub mod oracle;
+pub mod layers;
 pub mod padded_rows;
 pub mod response;
 pub mod rule;
@@ -25,6 +28,7 @@ pub mod sweep;
 pub use check::{Pair, any_collision, check, min_gap, pairs_within};
 pub use collider::{Collider, ColliderKind};
 pub use drug::DrugAtoms;
+pub use layers::Layers;
 pub use response::{Response, StepResult, respond};
 pub use rule::ContactRule;
 pub use sweep::{Method, TouchOptions, TouchResult, move_to_touch, move_to_touch_into};

@@ -53,11 +53,13 @@
 //!
 //! # Layout
 //! This file holds the query's interface and the rules every answer obeys
-//! (a colliding start may not sink); `search.rs` the swept search over
-//! intervals and groups of atoms; `pair.rs` one pair's first touch;
-//! `thesis.rs` the thesis's method.
+//! (a colliding start may not sink); `search.rs` the swept search's walk
+//! over the intervals and its confirmation, `plan.rs` its stages
+//! (intervals, culling, candidate search, pair resolution); `pair.rs` one
+//! pair's first touch; `thesis.rs` the thesis's method.
 
 mod pair;
+mod plan;
 mod search;
 mod thesis;
 
@@ -228,6 +230,7 @@ pub fn move_to_touch_into(
 /// Writes a query's answer into `out`: `contacts` fills the (emptied)
 /// contact list for the stop `pose`, and the pairs colliding there are
 /// taken from it.
+#[inline(always)]
 pub(super) fn finish(
     out: &mut TouchResult,
     t: f64,

@@ -50,6 +50,18 @@ fn first_positive_root(f: f64, b: f64, a: f64) -> f64 {
     }
 }
 
+/// Where the atom at offset `y` from the centre at the start is at `t`.
+/// A translation turns nothing (and a quaternion product by the identity
+/// would cost a few dozen flops to change nothing).
+#[inline(always)]
+fn position_at(sc: &Screw, y: DVec3, t: f64) -> DVec3 {
+    if sc.is_translation() {
+        y + sc.centre_at(t)
+    } else {
+        sc.rotation_at(t) * y + sc.centre_at(t)
+    }
+}
+
 /// Per-query constants of the screw for one atom.
 pub(super) struct Mover<'a> {
     pub(super) screw: &'a Screw,
@@ -65,6 +77,7 @@ impl Mover<'_> {
     /// motion; receptor atom at `q`; contact distance `c`) is within tolerance
     /// of contact and approaching; `None` when it is not before `limit`.
     #[allow(clippy::too_many_arguments)] // one pair's state; a struct would only rename it
+    #[inline(always)]
     pub(super) fn first_touch(
         &self,
         y: DVec3,
@@ -77,15 +90,6 @@ impl Mover<'_> {
         limit: f64,
     ) -> Option<f64> {
         let sc = self.screw;
-        // A translation turns nothing (and a quaternion product by the
-        // identity would cost a few dozen flops to change nothing).
-        let at = |t: f64| {
-            if sc.is_translation() {
-                y + sc.centre_at(t)
-            } else {
-                sc.rotation_at(t) * y + sc.centre_at(t)
-            }
-        };
         // A translation's usual pair, well apart: no square root for its
         // distance (the closed form needs only its square).
         if sc.is_translation() {
@@ -149,7 +153,7 @@ impl Mover<'_> {
                 return Some(t);
             }
             t += tau;
-            x = at(t);
+            x = position_at(sc, y, t);
             dist = (x - q).length();
         }
         Some(t)
@@ -247,7 +251,7 @@ mod tests {
     /// within rounding, and none within the band of contact.
     #[test]
     fn first_touch_apart_agrees_with_the_closed_form() {
-        let mut rng = crate::rng::Rng(5);
+        let mut rng = bump_testkit::Rng(5);
         let (mut touches, mut misses) = (0, 0);
         for _ in 0..20_000 {
             let step = rng.unit() * rng.range(0.01, 3.0);
@@ -296,7 +300,7 @@ mod tests {
     /// pairs plainly apart.
     #[test]
     fn may_collide_holds_wherever_the_f32_rule_collides() {
-        let mut rng = crate::rng::Rng(11);
+        let mut rng = bump_testkit::Rng(11);
         let (mut colliding, mut apart) = (0, 0);
         for scale in [1.0, 50.0, 500.0, 1e4, MAX_RELATIVE_COORDINATE] {
             for _ in 0..2_000 {

@@ -192,32 +192,36 @@ fn panel(s: &mut String, p: &Panel, x0: f64) {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_figure_has_one_polyline_per_multi_point_series_and_escapes_text() {
-        let p = Panel {
-            title: "a < b".into(),
-            x_label: "x".into(),
-            y_label: "y".into(),
-            series: vec![
-                Series {
-                    name: "one".into(),
-                    points: vec![(1e-3, 2.0), (0.0, 30.0)],
-                },
-                Series {
-                    name: "dot".into(),
-                    points: vec![(1.0, 5.0)],
-                },
-            ],
-            x_floor: 1e-7,
-        };
-        let svg = figure(&[p], 2);
-        assert!(svg.starts_with("<svg") && svg.ends_with("</svg>\n"));
-        assert_eq!(svg.matches("<polyline").count(), 1);
-        assert_eq!(svg.matches(r#"r="3.5""#).count(), 3);
-        assert!(svg.contains("a &lt; b") && svg.contains("1e-7"));
+/// What the smoke test checks of the plotting itself: one polyline per
+/// series of several points, a marker per point, escaped text, and the
+/// floor standing in for zero on a log axis.
+pub fn self_check() -> Result<(), String> {
+    let p = Panel {
+        title: "a < b".into(),
+        x_label: "x".into(),
+        y_label: "y".into(),
+        series: vec![
+            Series {
+                name: "one".into(),
+                points: vec![(1e-3, 2.0), (0.0, 30.0)],
+            },
+            Series {
+                name: "dot".into(),
+                points: vec![(1.0, 5.0)],
+            },
+        ],
+        x_floor: 1e-7,
+    };
+    let svg = figure(&[p], 2);
+    let ok = svg.starts_with("<svg")
+        && svg.ends_with("</svg>\n")
+        && svg.matches("<polyline").count() == 1
+        && svg.matches(r#"r="3.5""#).count() == 3
+        && svg.contains("a &lt; b")
+        && svg.contains("1e-7");
+    if ok {
+        Ok(())
+    } else {
+        Err(format!("a test figure came out wrong:\n{svg}"))
     }
 }

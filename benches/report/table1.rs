@@ -5,7 +5,7 @@ use bump::collide::stats::{THESIS_HASH_CELLS, density, thesis_cell_size};
 use bump::model::{self, Hydrogens, LoadOptions, RadiiSet};
 
 use super::timing::Progress;
-use super::{Context, Section};
+use super::{Context, Part, Section};
 
 /// (thesis molecule, thesis atoms, thesis hashed, thesis grid, our file).
 const ROWS: [(&str, usize, f64, f64, &str); 8] = [
@@ -19,17 +19,24 @@ const ROWS: [(&str, usize, f64, f64, &str); 8] = [
     ("trypsin", 2083, 11.60, 10.82, "3ptb.pdb"),
 ];
 
+/// The section.
+pub const SECTION: Section = Section {
+    name: "table1",
+    steps,
+    run,
+};
+
 /// Number of progress steps [`run`] takes.
-pub fn steps(ctx: &Context) -> usize {
+fn steps(ctx: &Context) -> usize {
     if ctx.data.is_some() { 1 } else { 0 }
 }
 
 /// Computes the table.
-pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
+fn run(ctx: &Context, progress: &mut Progress) -> Part {
     let mut md = String::from("## The thesis's Table 1, reproduced\n\n");
     let Some(dir) = ctx.data.as_ref() else {
         md.push_str("Skipped: `../shared/pdb` not found.\n");
-        return Section::text(md);
+        return Part::text(md);
     };
     progress.step("Table 1");
     md.push_str(
@@ -89,7 +96,7 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
          0.5 × 1.5 × 1.5 contact distances and a table of four to eight buckets per atom, not \
          4096 buckets.\n",
     );
-    Section {
+    Part {
         markdown: md,
         figures: Vec::new(),
         headline,

@@ -19,16 +19,14 @@
 //! Positions are the molecules' own (f32 relative to their centres) taken to
 //! f64, so the references see exactly the coordinates the colliders see.
 
+use bump::collide::collider::unpack_meta;
+use bump::collide::{Collider, ContactRule, DrugAtoms};
+use bump::model::{AtomInfo, Molecule};
+use bump::motion::{Pose, Screw};
 use glam::DVec3;
 
-use super::collider::{Collider, unpack_meta};
-use super::drug::DrugAtoms;
-use super::rule::ContactRule;
-use crate::model::{AtomInfo, Molecule};
-use crate::motion::{Pose, Screw};
-
 /// Contact distance of a receptor/drug atom pair, f64.
-fn contact(rule: &ContactRule, a: &AtomInfo, b: &AtomInfo) -> f64 {
+pub fn contact(rule: &ContactRule, a: &AtomInfo, b: &AtomInfo) -> f64 {
     f64::from(rule.contact_distance(a.radius, a.polar, b.radius, b.polar))
 }
 
@@ -166,6 +164,11 @@ pub fn dense_screw_toi(
     None
 }
 
+/// True when any pair collides (f64) at `pose`.
+pub fn collides(rule: &ContactRule, receptor: &Molecule, drug: &Molecule, pose: &Pose) -> bool {
+    min_gap(rule, receptor, drug, pose) <= 0.0
+}
+
 /// Largest atom speed (Å per unit `t`) of `drug` along `screw`.
 pub fn max_speed(drug: &Molecule, screw: &Screw) -> f64 {
     let rot = screw.start().rotation;
@@ -235,12 +238,14 @@ pub fn certify_free_path(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::collide::ColliderKind;
-
-    use crate::model::molecule::test_carbon as carbon;
+    use bump::collide::ColliderKind;
 
     fn one_atom(x: f64) -> Molecule {
-        Molecule::new("a", vec![carbon(1)], &[DVec3::new(x, 0.0, 0.0)])
+        Molecule::new(
+            "a",
+            vec![crate::atom(1, "C", 1.7)],
+            &[DVec3::new(x, 0.0, 0.0)],
+        )
     }
 
     #[test]

@@ -3,15 +3,15 @@
 //!
 //! The criterion bench times each method in its own stretch of a run, one
 //! after another; on a shared machine the load changes between those
-//! stretches (parry3d's own times differed by up to 23 % between two runs
-//! of unchanged code), and a ratio of two such times carries both changes.
+//! stretches by more than the methods differ, and a ratio of two such times
+//! carries both changes.
 //! Here every round times each method once over all the patches, in an
 //! order that turns with the round, so the methods share the machine's
 //! state within a few milliseconds; a round's ratio is parry3d's time over
 //! bump's, and the table gives the median and the spread of those ratios.
 //!
 //! The queries are the criterion bench's `scaling` group: up to 16 surface patches
-//! of 30 atoms per receptor ([`super::surface::surface_drugs`]), free under
+//! of 30 atoms per receptor ([`bump_testkit::surface::surface_drugs`]), free under
 //! parry3d's rule, each stepping 1.5 Å back towards the surface. bump runs
 //! under the default rule (with the N/O allowance, as the program does) and,
 //! on the full grid, under parry3d's own rule; the accuracy columns compare
@@ -19,18 +19,18 @@
 
 use std::time::Instant;
 
-use bump::collide::oracle::{closed_form_touch, min_gap};
 use bump::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, TouchOptions, TouchResult, move_to_touch,
     move_to_touch_into,
 };
 use bump::motion::Pose;
+use bump_testkit::oracle::{closed_form_touch, min_gap};
+use bump_testkit::parry::{self, Spheres};
+use bump_testkit::surface::{Patch, surface_drugs};
 
-use super::parry::{self, Spheres};
 use super::scaling::{load, receptors};
-use super::surface::{Patch, surface_drugs};
 use super::timing::{Progress, median, quantile};
-use super::{Context, Section};
+use super::{Context, Part, Section};
 
 /// Surface patches per receptor (the criterion bench's `SURFACE_PATCHES`).
 const PATCHES: usize = 16;
@@ -47,8 +47,15 @@ const METHODS: [&str; 5] = [
     "parry3d cast",
 ];
 
+/// The section.
+pub const SECTION: Section = Section {
+    name: "parry3d",
+    steps,
+    run,
+};
+
 /// Number of progress steps [`run`] takes.
-pub fn steps(ctx: &Context) -> usize {
+fn steps(ctx: &Context) -> usize {
     if ctx.data.is_none() {
         0
     } else {
@@ -184,12 +191,12 @@ fn measure(ctx: &Context, file: &str, receptor: &bump::model::Molecule) -> Optio
 }
 
 /// Runs the comparison on every receptor of the scaling section.
-pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
+fn run(ctx: &Context, progress: &mut Progress) -> Part {
     let mut md =
         String::from("## bump against parry3d on surface approaches, timed alternately\n\n");
     let Some(dir) = ctx.data.as_ref() else {
         md.push_str("Skipped: `../shared/pdb` not found.\n");
-        return Section::text(md);
+        return Part::text(md);
     };
     let mut rows = Vec::new();
     for file in receptors(ctx) {
@@ -258,7 +265,7 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
             g1.max(h1),
         ));
     }
-    Section {
+    Part {
         markdown: md,
         figures: Vec::new(),
         headline,

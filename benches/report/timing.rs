@@ -1,5 +1,5 @@
-//! Measuring: medians of repeated timings, a seeded generator, the machine's
-//! description and a progress bar on stderr.
+//! Measuring: medians of repeated timings, the machine's description and
+//! a progress bar on stderr.
 
 use std::io::{IsTerminal, Write};
 use std::time::Instant;
@@ -35,9 +35,6 @@ pub fn median_us<R>(reps: usize, inner: usize, mut f: impl FnMut() -> R) -> f64 
     }
     median(&times)
 }
-
-/// The seeded generator, so runs are repeatable.
-pub use bump::rng::Rng;
 
 /// One line describing the machine, OS, compiler and build.
 pub fn machine() -> String {
@@ -136,19 +133,5 @@ impl Progress {
         if self.tty {
             eprintln!();
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn quantiles_by_nearest_rank() {
-        let v = [5.0, 1.0, 3.0, 2.0, 4.0];
-        assert_eq!(median(&v), 3.0);
-        assert_eq!(quantile(&v, 1.0), 5.0);
-        assert_eq!(quantile(&v, 0.0), 1.0);
-        assert_eq!(median(&[]), 0.0);
     }
 }

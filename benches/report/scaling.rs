@@ -4,7 +4,7 @@
 //!
 //! The drug is a patch of the receptor's own surface: its outermost atom and
 //! that atom's nearest neighbours (a copy), pushed outwards until it is free
-//! ([`super::surface`], which the criterion bench shares).
+//! ([`bump_testkit::surface`], which the criterion bench shares).
 //! The check is at the end pose, a 1.5 Å step back towards the surface (it
 //! collides there); move-to-touch is that step (it touches on the way).
 
@@ -17,11 +17,11 @@ use bump::collide::{
 };
 use bump::model::{self, LoadOptions, Molecule};
 use bump::motion::Pose;
+use bump_testkit::surface::surface_drug;
 
-use super::surface::surface_drug;
 use super::svg::{Panel, Series};
 use super::timing::{Progress, median, median_us};
-use super::{Context, Section};
+use super::{Context, Part, Section};
 
 /// Receptors from small to large.
 static RECEPTORS: [&str; 5] = [
@@ -46,8 +46,15 @@ pub(super) fn receptors(ctx: &Context) -> &'static [&'static str] {
     }
 }
 
+/// The section.
+pub const SECTION: Section = Section {
+    name: "scaling",
+    steps,
+    run,
+};
+
 /// Number of progress steps [`run`] takes.
-pub fn steps(ctx: &Context) -> usize {
+fn steps(ctx: &Context) -> usize {
     if ctx.data.is_none() {
         return 0;
     }
@@ -177,11 +184,11 @@ pub(super) fn load(dir: &Path, file: &str) -> Result<Molecule, String> {
 }
 
 /// Runs the receptor-size and drug-size sweeps.
-pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
+fn run(ctx: &Context, progress: &mut Progress) -> Part {
     let mut md = String::from("## Scaling\n\n");
     let Some(dir) = ctx.data.as_ref() else {
         md.push_str("Skipped: `../shared/pdb` not found.\n");
-        return Section::text(md);
+        return Part::text(md);
     };
     let rule = ContactRule::default();
     let mut headline = Vec::new();
@@ -320,7 +327,7 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
             per_collider(&by_receptor, |t| t.build),
         ),
     ];
-    Section {
+    Part {
         markdown: md,
         figures: vec![("scaling.svg".into(), super::svg::figure(&panels, 2))],
         headline,

@@ -14,7 +14,7 @@ use bump::session::{Command, FrameInput, FrameOutcome, Session, Settings};
 use glam::DVec3;
 
 use super::timing::{Progress, median};
-use super::{Context, Section};
+use super::{Context, Part, Section};
 
 /// Frames per measured behaviour.
 fn frames(ctx: &Context) -> usize {
@@ -92,13 +92,20 @@ fn scenes(ctx: &Context) -> Vec<(String, Vec<Molecule>)> {
     v
 }
 
+/// The section.
+pub const SECTION: Section = Section {
+    name: "frames",
+    steps,
+    run,
+};
+
 /// Number of progress steps [`run`] takes.
-pub fn steps(ctx: &Context) -> usize {
+fn steps(ctx: &Context) -> usize {
     scenes(ctx).len() + 1
 }
 
 /// Measures every behaviour on each scene, then the renderer's uploads.
-pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
+fn run(ctx: &Context, progress: &mut Progress) -> Part {
     let n = frames(ctx);
     let mut md = String::from("## Skip what a scene doesn't need\n\n");
     md.push_str(&format!(
@@ -197,23 +204,28 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
         }
     }
     md.push_str(
-        "\nFixed after the first measurement: re-selecting the selected molecule (a click on \
-         one of its atoms) threw away its environment and rebuilt the collider every time \
-         (952 µs a frame for DHFR + trimethoprim, 16 µs for the built-in scene); the session \
-         now keeps it when the selection does not change. Idle frames and frames blocked \
-         against a contact ask for no redraw; idle frames and camera moves run no collision \
-         query; with collision off no query runs at all.\n",
+        "\nRe-selecting the selected molecule (a click on one of its atoms) keeps its \
+         environment's collider. Idle frames and frames blocked against a contact ask for no \
+         redraw; idle frames and camera moves run no collision query; with collision off no \
+         query runs at all.\n",
     );
     progress.step("renderer uploads");
     md.push_str(&uploads(&mut headline));
-    Section {
+    Part {
         markdown: md,
         figures: Vec::new(),
         headline,
     }
 }
 
+/// Without the shell (`--no-default-features`) there is no renderer.
+#[cfg(not(feature = "app"))]
+fn uploads(_: &mut Vec<String>) -> String {
+    "\nRenderer uploads: not in this run (built without the `app` feature).\n".into()
+}
+
 /// Bytes the sphere renderer uploads while the drug moves (offscreen, 64×64).
+#[cfg(feature = "app")]
 fn uploads(headline: &mut Vec<String>) -> String {
     use bump::render::offscreen::Offscreen;
     use bump::render::{Gpu, ViewParams};

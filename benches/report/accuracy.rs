@@ -11,26 +11,25 @@
 //! All methods answer the same question under one rule: overlap ≥ 0.6 Å with
 //! no N/O allowance, which is what parry3d's balls of radius `r − 0.3` model.
 
-use bump::collide::oracle::{closed_form_touch, min_gap, translation_toi};
 use bump::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, Method, TouchOptions, check, move_to_touch,
 };
 use bump::model::{self, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
 use bump::motion::Pose;
+use bump_testkit::oracle::{closed_form_touch, min_gap, translation_toi};
+use bump_testkit::{Rng, parry};
 use glam::DVec3;
 
-#[cfg(feature = "parry")]
-use super::parry;
 use super::svg::{Panel, Series};
-use super::timing::{Progress, Rng, median, median_us, quantile};
-use super::{Context, Section};
+use super::timing::{Progress, median, median_us, quantile};
+use super::{Context, Part, Section};
 
 /// One approach scene and its queries (relative poses: drug in receptor frame).
-struct Case {
-    name: &'static str,
-    receptor: Molecule,
-    drug: Molecule,
-    queries: Vec<(Pose, Pose)>,
+pub(super) struct Case {
+    pub(super) name: &'static str,
+    pub(super) receptor: Molecule,
+    pub(super) drug: Molecule,
+    pub(super) queries: Vec<(Pose, Pose)>,
 }
 
 #[derive(Clone, Copy)]
@@ -39,11 +38,9 @@ enum Kind {
     Thesis(f64),
     ClosedForm,
     /// parry3d's `cast_shapes`: the time of impact only.
-    #[cfg(feature = "parry")]
     Parry,
     /// parry3d doing what move-to-touch does: the cast, then the pairs
     /// within 10⁻³ Å of contact at the stop.
-    #[cfg(feature = "parry")]
     ParryTouch,
 }
 
@@ -53,9 +50,7 @@ impl Kind {
             Kind::Swept(k, _) => format!("swept ({})", k.name()),
             Kind::Thesis(_) => "thesis (hashed)".into(),
             Kind::ClosedForm => "closed form (hashed)".into(),
-            #[cfg(feature = "parry")]
             Kind::Parry => "parry3d cast_shapes".into(),
-            #[cfg(feature = "parry")]
             Kind::ParryTouch => "parry3d cast + contacts".into(),
         }
     }
@@ -90,7 +85,6 @@ fn methods() -> Vec<Kind> {
     v.push(Kind::Swept(ColliderKind::Grid, 1e-3));
     v.extend(TOLERANCES.iter().map(|&t| Kind::Thesis(t)));
     v.push(Kind::ClosedForm);
-    #[cfg(feature = "parry")]
     v.extend([Kind::Parry, Kind::ParryTouch]);
     v
 }
@@ -120,7 +114,7 @@ fn queries(
     out
 }
 
-fn cases(ctx: &Context, rule: &ContactRule, n: usize) -> (Vec<Case>, Vec<String>) {
+pub(super) fn cases(ctx: &Context, rule: &ContactRule, n: usize) -> (Vec<Case>, Vec<String>) {
     let mut notes = Vec::new();
     let mut out = Vec::new();
     match ctx.data.as_ref().map(|d| d.join("6xg5_tmp_prepared.pdb")) {
@@ -188,7 +182,6 @@ fn measure(ctx: &Context, rule: &ContactRule, case: &Case, kind: Kind) -> Row {
     hashed.wait_for_clearance();
     grid.wait_for_clearance();
     let atoms = DrugAtoms::new(&case.drug, rule, hashed.max_radius());
-    #[cfg(feature = "parry")]
     let (rec, dr) = (
         parry::Spheres::new(&case.receptor, rule),
         parry::Spheres::new(&case.drug, rule),
@@ -219,9 +212,7 @@ fn measure(ctx: &Context, rule: &ContactRule, case: &Case, kind: Kind) -> Row {
             Kind::ClosedForm => {
                 closed_form_touch(&hashed, &atoms, s, e.translation - s.translation).unwrap_or(1.0)
             }
-            #[cfg(feature = "parry")]
             Kind::Parry => parry::cast(&rec, &dr, s, e),
-            #[cfg(feature = "parry")]
             Kind::ParryTouch => {
                 let mut contacts = Vec::new();
                 let t = parry::touch(&rec, &dr, s, e, 1e-3, &mut contacts);
@@ -262,8 +253,15 @@ fn measure(ctx: &Context, rule: &ContactRule, case: &Case, kind: Kind) -> Row {
     }
 }
 
+/// The section.
+pub const SECTION: Section = Section {
+    name: "accuracy",
+    steps,
+    run,
+};
+
 /// Number of progress steps [`run`] takes.
-pub fn steps(ctx: &Context) -> usize {
+fn steps(ctx: &Context) -> usize {
     let scenes = if ctx.data.is_some() { 2 } else { 1 };
     scenes * methods().len()
 }
@@ -273,7 +271,7 @@ fn pct(k: usize, n: usize) -> String {
 }
 
 /// Runs the comparison and writes its section, figure and headline.
-pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
+fn run(ctx: &Context, progress: &mut Progress) -> Part {
     let rule = ContactRule::new(0.6, 0.0).unwrap_or_default();
     let (cases, notes) = cases(ctx, &rule, ctx.queries);
     let mut md = String::new();
@@ -300,11 +298,6 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
     for n in &notes {
         md.push_str(&format!("- {n}\n"));
     }
-    #[cfg(not(feature = "parry"))]
-    md.push_str(
-        "- parry3d column: not in this run (built without `--features parry`); \
-         `cargo run --release --features parry -- bench` adds it.\n",
-    );
     for case in &cases {
         let n = case.queries.len();
         let rows: Vec<Row> = methods()
@@ -376,7 +369,6 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
                 th.p95_err
             ));
         }
-        #[cfg(feature = "parry")]
         if let (Some(hashed), Some(grid), Some(cast), Some(full)) = (
             find(&|k| matches!(k, Kind::Swept(ColliderKind::Hashed, t) if *t == 1e-3)),
             find(&|k| matches!(k, Kind::Swept(ColliderKind::Grid, t) if *t == 1e-3)),
@@ -435,7 +427,7 @@ pub fn run(ctx: &Context, progress: &mut Progress) -> Section {
          its bisection looks only at the pairs colliding at the end pose, so it stops \
          past (or short of) contacts it never examined.\n",
     );
-    Section {
+    Part {
         markdown: md,
         figures: vec![("time_vs_error.svg".into(), super::svg::figure(&panels, 2))],
         headline,

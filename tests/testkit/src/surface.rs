@@ -1,6 +1,6 @@
-//! The scaling benchmarks' drugs, shared by `bump bench` and the criterion
-//! bench `benches/collide.rs` (which includes this file by path), so both
-//! time the same queries: patches of the receptor's own surface, each an
+//! The scaling benchmarks' drugs, shared by the report, the criterion
+//! bench `benches/collide.rs` and the tests, so all use the same queries:
+//! patches of the receptor's own surface, each an
 //! outermost atom and that atom's nearest neighbours (a copy), pushed
 //! outwards from the receptor's centre until free. A step back along that
 //! direction then meets a surface shaped like the patch itself.
@@ -14,8 +14,9 @@
 use bump::collide::{Collider, ColliderKind, ContactRule, DrugAtoms, check};
 use bump::model::Molecule;
 use bump::motion::Pose;
-use bump::rng::sphere_directions;
 use glam::DVec3;
+
+use crate::rng::sphere_directions;
 
 /// One surface patch: the drug, its first free pose (relative to the
 /// receptor) on the way out, in steps of 0.5 Å, and that way out (a unit

@@ -1,7 +1,6 @@
-//! parry3d as the move-to-touch baseline, shared by `bump bench` (built with
-//! `--features parry`), the criterion bench `benches/collide.rs` and the
-//! test `tests/move_to_touch.rs` (both include this file by path), so the
-//! benchmarks time the code the test checks against bump.
+//! parry3d as the move-to-touch baseline, shared by the benchmarks (the
+//! report and `benches/collide.rs`) and the test `tests/move_to_touch.rs`,
+//! so the benchmarks time the code the test checks against bump.
 //!
 //! The contact rule becomes parry's sphere model: a `Compound` of balls of
 //! radius `r − overlap/2`, which is the rule without the N/O hydrogen-bond
@@ -79,9 +78,6 @@ pub fn cast(rec: &Spheres, dr: &Spheres, start: &Pose, end: &Pose) -> f64 {
 
 /// The (receptor, drug) leaf pairs whose sphere gap is at most `tolerance`
 /// with the drug at `at`, sorted by receptor then drug (as bump's pairs).
-// Only the test and the criterion bench that include this file ask for
-// the list on its own.
-#[allow(dead_code)]
 pub fn contacts(rec: &Spheres, dr: &Spheres, at: &Pose, tolerance: f32) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
     contacts_into(rec, dr, at, tolerance, &mut out);

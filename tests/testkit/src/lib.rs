@@ -1,0 +1,25 @@
+//! What bump's tests (`tests/*.rs`) and benchmarks (`benches/*.rs`) share,
+//! so both run the same queries against the same references:
+//!
+//! - [`data`]: where the real structures are (`../shared/pdb`), and what a
+//!   missing folder means (a skip, or a failure under `CI=true`).
+//! - [`rng`]: a seeded generator and evenly spread directions, so the same
+//!   seed gives the same queries on every machine.
+//! - [`molecules`]: test atoms and random molecules.
+//! - [`oracle`]: exact f64 answers to measure move-to-touch against.
+//! - [`surface`]: patches of a receptor's own surface, the drugs of the
+//!   scaling benchmarks.
+//! - [`parry`]: parry3d doing move-to-touch, the independent baseline.
+//!
+//! A dev-dependency of bump only: the product does not link parry3d.
+
+pub mod data;
+pub mod molecules;
+pub mod oracle;
+pub mod parry;
+pub mod rng;
+pub mod surface;
+
+pub use data::shared_pdb;
+pub use molecules::{all_colliders, atom, random_molecule};
+pub use rng::{Rng, sphere_directions};
