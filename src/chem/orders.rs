@@ -30,11 +30,11 @@
 
 use glam::Vec3;
 
+use super::Warnings;
 use super::connect::Connection;
 use super::elements::charged_valences;
 use super::graph::Adjacency;
 use super::rings::{ring_deviation, smallest_rings};
-use super::Warnings;
 use crate::model::{BondOrder, Molecule};
 
 /// Average bond angle (degrees) above which an atom is linear.

@@ -7,7 +7,7 @@
 //! compact groups ([`grouping`]); [`mod@check`] answers static queries;
 //! [`sweep`] moves the drug to touch without tunnelling; [`response`]
 //! turns a proposed step into the session's answer (stop, touch, slide,
-//! pass); [`stats`] measures grid occupancy (the thesis's Table 1);
+//! soft, pass), [`soft`] with the loosened index it needs; [`stats`] measures grid occupancy (the thesis's Table 1);
 //! [`oracle`] gives exact f64 answers to measure move-to-touch against.
 
 pub mod check;
@@ -19,6 +19,7 @@ pub mod oracle;
 pub mod padded_rows;
 pub mod response;
 pub mod rule;
+pub mod soft;
 pub mod stats;
 pub mod sweep;
 
@@ -27,4 +28,5 @@ pub use collider::{Collider, ColliderKind};
 pub use drug::DrugAtoms;
 pub use response::{Response, StepResult, respond};
 pub use rule::ContactRule;
+pub use soft::{SoftIndex, respond_soft};
 pub use sweep::{Method, TouchOptions, TouchResult, move_to_touch, move_to_touch_into};

@@ -394,6 +394,9 @@ pub fn command_token(c: &Command) -> String {
         Command::RockMore => "rock-more".into(),
         Command::RockLess => "rock-less".into(),
         Command::Quit => "quit".into(),
+        Command::SetSoftLimit(x) => format!("soft-limit:{x:?}"),
+        Command::SoftLimitMore => "soft-more".into(),
+        Command::SoftLimitLess => "soft-less".into(),
     }
 }
 
@@ -442,6 +445,12 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
         "rock-more" => no_arg(Command::RockMore),
         "rock-less" => no_arg(Command::RockLess),
         "quit" => no_arg(Command::Quit),
+        "soft-limit" => arg
+            .parse()
+            .map(Command::SetSoftLimit)
+            .map_err(|_| format!("`{tok}`: soft-limit needs a number of Å")),
+        "soft-more" => no_arg(Command::SoftLimitMore),
+        "soft-less" => no_arg(Command::SoftLimitLess),
         _ => Err(format!("unknown command `{tok}`")),
     }
 }
