@@ -17,6 +17,7 @@ mod render;
 mod report;
 mod scene_args;
 mod stats;
+mod steer;
 mod touch;
 mod window;
 
@@ -44,6 +45,8 @@ enum Command {
     Check(check::CheckArgs),
     /// Move-to-touch: how far the drug may move along a proposed motion.
     Touch(touch::TouchArgs),
+    /// Steer the drug from outside towards its file pose through a response.
+    Steer(steer::SteerArgs),
     /// Atoms per grid cell (the thesis's Table 1) for real files.
     Stats(stats::StatsArgs),
     /// Draw the scene offscreen to a PNG (no window needed).
@@ -76,6 +79,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Check(a)) => check::run(&a),
         Some(Command::Touch(a)) => touch::run(&a),
         Some(Command::Stats(a)) => stats::run(&a),
+        Some(Command::Steer(a)) => steer::run(&a),
         #[cfg(feature = "app")]
         Some(Command::Render(a)) => render::run(&a),
         #[cfg(feature = "app")]

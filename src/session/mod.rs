@@ -33,6 +33,7 @@ pub mod keys;
 pub mod labels;
 pub mod log;
 pub mod replay;
+pub mod steer;
 pub mod timing;
 
 use std::sync::Arc;
