@@ -78,6 +78,10 @@ pub struct SteerReport {
     pub frames: usize,
     /// Deepest overlap beyond the default contact rule over the run, Å.
     pub deepest_overlap: f64,
+    /// Median time of one collision response step, µs.
+    pub step_us_median: f64,
+    /// 99th percentile of the step times, µs.
+    pub step_us_p99: f64,
     /// Per frame, the collision response's time, µs (not serialised).
     #[serde(skip)]
     pub step_us: Vec<f64>,
@@ -170,6 +174,8 @@ pub fn steer(
         final_rmsd: 0.0,
         frames: 0,
         deepest_overlap: 0.0,
+        step_us_median: 0.0,
+        step_us_p99: 0.0,
         step_us: Vec::new(),
     };
     for frame in 1..=MAX_FRAMES {
@@ -216,6 +222,13 @@ pub fn steer(
         }
     }
     report.final_rmsd = rmsd(&drug, &session.bodies()[1].pose, &file);
+    let mut sorted = report.step_us.clone();
+    sorted.sort_by(f64::total_cmp);
+    let at = |q: f64| {
+        let k = ((sorted.len() as f64 - 1.0) * q).round() as usize;
+        sorted.get(k).copied().unwrap_or(0.0)
+    };
+    (report.step_us_median, report.step_us_p99) = (at(0.5), at(0.99));
     Ok(report)
 }
 
