@@ -546,3 +546,37 @@ fn without_a_display_the_window_fails_cleanly() {
         "{e}"
     );
 }
+
+#[test]
+fn steer_reports_the_run_as_json_and_refuses_a_zero_direction() {
+    let v = json(&[
+        "steer",
+        "builtin",
+        "--direction",
+        "1,0,0",
+        "--response",
+        "pass",
+        "--json",
+    ]);
+    assert_eq!(v["reached"], true);
+    assert_eq!(v["response"], "pass");
+    assert!(v["start_distance"].as_f64().expect("start") >= 8.0);
+    assert!(v["final_rmsd"].as_f64().expect("final") < 1e-6);
+    let v = json(&[
+        "steer",
+        "builtin",
+        "--direction",
+        "0,-1,0.2",
+        "--response",
+        "soft",
+        "--json",
+    ]);
+    let deepest = v["deepest_overlap"].as_f64().expect("deepest");
+    assert!((0.0..=1.0 + 1e-4).contains(&deepest), "{v}");
+    let frames = v["frames"].as_u64().expect("frames");
+    assert!((1..=3000).contains(&frames));
+    assert!(v["best_rmsd"].as_f64() <= v["final_rmsd"].as_f64());
+    let out = bump(&["steer", "builtin", "--direction", "0,0,0"]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("direction"), "{}", stderr(&out));
+}

@@ -217,6 +217,20 @@ impl App {
         if out.collision_us.is_some() {
             self.hud.collision_us = out.collision_us;
         }
+        // The rumble follows the resistance where the drug stands: a frame
+        // without a query keeps it, unless soft contacts are off.
+        let s = self.session.settings();
+        let soft = s.collision && s.response == crate::collide::Response::Soft;
+        let resistance = if out.collision_us.is_some() || !soft {
+            Some(out.resistance)
+        } else {
+            None
+        };
+        if let Some(msg) =
+            resistance.and_then(|r| self.joysticks.as_mut().and_then(|j| j.resist(r)))
+        {
+            self.hud.say(msg);
+        }
         if out.new_contact {
             if self.hud.flash {
                 self.flash_until = Some(now + FLASH);

@@ -210,6 +210,22 @@ fn top_bar(ui: &mut egui::Ui, session: &Session, hud: &mut HudState, cmds: &mut 
     if response != s.response {
         cmds.push(Command::SetResponse(response));
     }
+    if s.response == Response::Soft {
+        let mut limit = s.soft_limit;
+        let drag = egui::DragValue::new(&mut limit)
+            .range(0.0..=crate::collide::soft::MAX_LIMIT)
+            .speed(0.01)
+            .suffix(" Å");
+        if ui
+            .add(drag)
+            .on_hover_text(
+                "soft limit: how far beyond the contact rule the drug may press (Shift+R, Alt+R)",
+            )
+            .changed()
+        {
+            cmds.push(Command::SetSoftLimit(limit));
+        }
+    }
     let mut object_space = s.space == Space::Object;
     if ui.checkbox(&mut object_space, "Object space").changed() {
         cmds.push(Command::ToggleSpace);

@@ -78,6 +78,20 @@ impl Joysticks {
         failed
     }
 
+    /// The soft response's resistance now: a continuous rumble of that
+    /// strength, if on (0 stops it).
+    pub fn resist(&mut self, resistance: f64) -> Option<String> {
+        if !self.rumble {
+            return None;
+        }
+        let g = self.gamepads.as_mut()?;
+        let failed = g.resist(resistance);
+        if failed.is_some() {
+            self.rumble = false;
+        }
+        failed
+    }
+
     /// The boxes, for the HUD: e.g. `view: Pad A | object: Pad B`.
     pub fn describe(&self) -> String {
         let boxes = self.controllers.describe_boxes(&self.map);

@@ -224,7 +224,17 @@ pub const TABLE: &[Entry] = &[
     row(
         &[(K::KeyR, N)],
         S(Command::CycleResponse),
-        "next collision response: stop, touch, slide, pass",
+        "next collision response: stop, touch, slide, soft, pass",
+    ),
+    row(
+        &[(K::KeyR, Mods::SHIFT)],
+        S(Command::SoftLimitMore),
+        "soft contacts: let the drug press deeper (+0.25 Å)",
+    ),
+    row(
+        &[(K::KeyR, Mods::ALT)],
+        S(Command::SoftLimitLess),
+        "soft contacts: let the drug press less deep (−0.25 Å)",
     ),
     row(
         &[(K::KeyO, N)],

@@ -17,6 +17,7 @@ mod scene_args;
 mod score;
 mod settle;
 mod stats;
+mod steer;
 mod touch;
 mod window;
 
@@ -48,6 +49,8 @@ enum Command {
     Score(score::ScoreArgs),
     /// Minimise the score from the pose without ever colliding (Vina's optimize).
     Settle(settle::SettleArgs),
+    /// Steer the drug from outside towards its file pose through a response.
+    Steer(steer::SteerArgs),
     /// Atoms per grid cell (the thesis's Table 1) for real files.
     Stats(stats::StatsArgs),
     /// Draw the scene offscreen to a PNG (no window needed).
@@ -80,6 +83,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Score(a)) => score::run(&a),
         Some(Command::Settle(a)) => settle::run(&a),
         Some(Command::Stats(a)) => stats::run(&a),
+        Some(Command::Steer(a)) => steer::run(&a),
         #[cfg(feature = "app")]
         Some(Command::Render(a)) => render::run(&a),
         #[cfg(feature = "app")]

@@ -37,7 +37,7 @@ pub struct TouchArgs {
     /// Start at the file pose shifted by DX,DY,DZ Å.
     #[arg(long, value_name = "DX,DY,DZ", value_parser = parse_vec3, allow_hyphen_values = true)]
     start: Option<DVec3>,
-    /// Collision response: touch, stop, slide or pass.
+    /// Collision response: touch, stop, slide, soft or pass.
     #[arg(long, default_value = "touch", value_parser = parse_response)]
     response: Response,
     /// Move-to-touch method: swept (never tunnels) or thesis (Turk's bisection).
@@ -54,7 +54,8 @@ pub struct TouchArgs {
 }
 
 fn parse_response(s: &str) -> Result<Response, String> {
-    Response::parse(s).ok_or_else(|| format!("unknown response `{s}` (stop, touch, slide or pass)"))
+    Response::parse(s)
+        .ok_or_else(|| format!("unknown response `{s}` (stop, touch, slide, soft or pass)"))
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {

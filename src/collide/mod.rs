@@ -7,11 +7,12 @@
 //! compact groups ([`grouping`]); [`mod@check`] answers static queries;
 //! [`sweep`] moves the drug to touch without tunnelling; [`response`]
 //! turns a proposed step into the session's answer (stop, touch, slide,
-//! pass); [`stats`] measures grid occupancy (the thesis's Table 1);
-//! [`layers`] names the optional layers that make queries fast, each of
-//! which can be turned off to measure what it saves.
-//! The exact f64 answers that tests and benchmarks measure these against
-//! live with them, in the dev-only crate `bump-testkit`.
+//! soft, pass), [`soft`] with the loosened index it needs; [`stats`]
+//! measures grid occupancy (the thesis's Table 1); [`layers`] names the
+//! optional layers that make queries fast, each of which can be turned off
+//! to measure what it saves. The exact f64 answers that tests and
+//! benchmarks measure these against live with them, in the dev-only crate
+//! `bump-testkit`.
 
 pub mod check;
 pub mod clearance;
@@ -22,6 +23,7 @@ pub mod layers;
 pub mod padded_rows;
 pub mod response;
 pub mod rule;
+pub mod soft;
 pub mod stats;
 pub mod sweep;
 
@@ -31,4 +33,5 @@ pub use drug::DrugAtoms;
 pub use layers::Layers;
 pub use response::{Response, StepResult, respond};
 pub use rule::ContactRule;
+pub use soft::{SoftIndex, respond_soft};
 pub use sweep::{Method, TouchOptions, TouchResult, move_to_touch, move_to_touch_into};

@@ -14,6 +14,10 @@
 //!   pushing never makes the drug spin. The step's own twist is one more
 //!   constraint of every leg, and a leg with nothing left along it ends the
 //!   slide: the drug never slides back against the push.
+//! - `soft`: press in up to a limit beyond the contact rule, against a
+//!   resistance that grows with the overlap, sliding as `slide` does
+//!   ([`super::soft`]; [`respond`] has no loosened index, so here its limit
+//!   is 0 and it moves as `slide`).
 //! - `pass`: move freely and only report contacts (what the thesis's users
 //!   asked for most).
 
@@ -37,20 +41,23 @@ pub enum Response {
     Touch,
     /// Touch, then slide along the contacts.
     Slide,
+    /// Press in up to a limit against a growing resistance, sliding.
+    Soft,
     /// Move freely; only report contacts.
     Pass,
 }
 
 impl Response {
     /// All responses in the order a menu lists them.
-    pub const ALL: [Response; 4] = [Self::Stop, Self::Touch, Self::Slide, Self::Pass];
+    pub const ALL: [Response; 5] = [Self::Stop, Self::Touch, Self::Slide, Self::Soft, Self::Pass];
 
-    /// Parses `stop`, `touch`, `slide` or `pass`.
+    /// Parses `stop`, `touch`, `slide`, `soft` or `pass`.
     pub fn parse(s: &str) -> Option<Self> {
         match s.to_ascii_lowercase().as_str() {
             "stop" => Some(Self::Stop),
             "touch" => Some(Self::Touch),
             "slide" => Some(Self::Slide),
+            "soft" => Some(Self::Soft),
             "pass" => Some(Self::Pass),
             _ => None,
         }
@@ -62,6 +69,7 @@ impl Response {
             Self::Stop => "stop",
             Self::Touch => "touch",
             Self::Slide => "slide",
+            Self::Soft => "soft",
             Self::Pass => "pass",
         }
     }
@@ -89,6 +97,9 @@ pub struct StepResult {
     pub colliding: Vec<Pair>,
     /// Pairs colliding at the start pose.
     pub start_colliding: Vec<Pair>,
+    /// `soft`: the resistance of the pairs pressed in at the new pose, in
+    /// [0, 1) (see [`super::soft::resistance`]); 0 for the others.
+    pub resistance: f64,
 }
 
 impl StepResult {
@@ -101,6 +112,7 @@ impl StepResult {
             contacts: r.contacts,
             colliding: r.colliding,
             start_colliding: r.start_colliding,
+            resistance: 0.0,
         }
     }
 }
@@ -132,6 +144,7 @@ pub fn respond(
                 contacts: r.contacts,
                 colliding: r.start_colliding.clone(),
                 start_colliding: r.start_colliding,
+                resistance: 0.0,
             }
         }
         Response::Pass => {
@@ -145,13 +158,19 @@ pub fn respond(
                 contacts,
                 colliding,
                 start_colliding: check(collider, drug, start),
+                resistance: 0.0,
             }
         }
         Response::Slide => slide(collider, drug, start, end, opts),
+        Response::Soft => {
+            let mut r = slide(collider, drug, start, end, opts);
+            r.response = Response::Soft;
+            r
+        }
     }
 }
 
-fn slide(
+pub(super) fn slide(
     collider: &Collider,
     drug: &DrugAtoms,
     start: &Pose,
@@ -246,7 +265,7 @@ fn dot6(a: &[f64; 6], b: &[f64; 6]) -> f64 {
 /// by Dykstra's alternating projections (plain cyclic projection would find a
 /// feasible point but not the nearest one, and could push the drug backwards).
 /// The result `p` satisfies `p·x = |p|² ≥ 0`: sliding never opposes the push.
-fn project_onto_cone(x: [f64; 6], rows: &[[f64; 6]]) -> [f64; 6] {
+pub(super) fn project_onto_cone(x: [f64; 6], rows: &[[f64; 6]]) -> [f64; 6] {
     let mut u = x;
     let mut corr = vec![[0.0f64; 6]; rows.len()];
     for _ in 0..200 {

@@ -1,5 +1,6 @@
 //! The device layer: gilrs events become [`RawEvent`]s, and contacts become a
-//! short rumble. Everything else about joysticks is pure and lives in
+//! short rumble, the soft response's resistance a continuous one whose
+//! strength follows it. Everything else about joysticks is pure and lives in
 //! [`super::controllers`] and [`super::map`].
 //!
 //! gilrs's own dead-zone and jitter filters are off: the map's dead zones
@@ -17,6 +18,35 @@ use super::controllers::{DeviceInfo, RawEvent};
 pub struct Gamepads {
     gilrs: Gilrs,
     rumble: Option<Effect>,
+    /// The continuous rumble that follows the soft response's resistance,
+    /// and its level (see [`resistance_level`]).
+    resisting: Option<(u16, Effect)>,
+}
+
+/// Levels of the continuous rumble: the resistance is quantised so that a
+/// new effect is made only when the level changes, not every frame.
+pub const RESISTANCE_LEVELS: u16 = 8;
+
+/// The level (0 = off … [`RESISTANCE_LEVELS`]) of a resistance in [0, 1].
+pub fn resistance_level(resistance: f64) -> u16 {
+    if resistance.is_finite() && resistance > 0.0 {
+        let top = f64::from(RESISTANCE_LEVELS);
+        (resistance.min(1.0) * top).ceil().clamp(1.0, top) as u16
+    } else {
+        0
+    }
+}
+
+/// The strong motor's magnitude at a level: a quarter of full strength at
+/// the first level, full at the top, in equal steps.
+pub fn level_magnitude(level: u16) -> u16 {
+    if level == 0 {
+        return 0;
+    }
+    let level = level.min(RESISTANCE_LEVELS);
+    let quarter = u32::from(u16::MAX) / 4;
+    let rest = u32::from(u16::MAX) - quarter;
+    (quarter + rest * u32::from(level) / u32::from(RESISTANCE_LEVELS)) as u16
 }
 
 impl std::fmt::Debug for Gamepads {
@@ -86,6 +116,7 @@ impl Gamepads {
                 Some(Self {
                     gilrs,
                     rumble: None,
+                    resisting: None,
                 }),
                 None,
             ),
@@ -151,5 +182,74 @@ impl Gamepads {
             }
             Err(e) => Some(format!("rumble failed: {e}")),
         }
+    }
+
+    /// A continuous rumble whose strength follows `resistance` (in
+    /// [0, 1]; 0 stops it): the effect repeats until the level changes.
+    /// Returns a message when it fails.
+    pub fn resist(&mut self, resistance: f64) -> Option<String> {
+        let level = resistance_level(resistance);
+        if self.resisting.as_ref().map_or(0, |(l, _)| *l) == level {
+            return None;
+        }
+        // Dropping the effect stops it.
+        self.resisting = None;
+        if level == 0 {
+            return None;
+        }
+        let ids: Vec<GamepadId> = self
+            .gilrs
+            .gamepads()
+            .filter(|(_, g)| g.is_ff_supported())
+            .map(|(id, _)| id)
+            .collect();
+        if ids.is_empty() {
+            return None;
+        }
+        let effect = EffectBuilder::new()
+            .add_effect(BaseEffect {
+                kind: BaseEffectType::Strong {
+                    magnitude: level_magnitude(level),
+                },
+                scheduling: Replay {
+                    after: Ticks::from_ms(0),
+                    play_for: Ticks::from_ms(1000),
+                    with_delay: Ticks::from_ms(0),
+                },
+                ..BaseEffect::default()
+            })
+            .repeat(gilrs::ff::Repeat::Infinitely)
+            .gamepads(&ids)
+            .finish(&mut self.gilrs);
+        match effect.and_then(|e| e.play().map(|()| e)) {
+            Ok(e) => {
+                self.resisting = Some((level, e));
+                None
+            }
+            Err(e) => Some(format!("rumble failed: {e}")),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rumble_grows_with_the_resistance_in_levels() {
+        assert_eq!(resistance_level(0.0), 0);
+        assert_eq!(resistance_level(f64::NAN), 0);
+        assert_eq!(resistance_level(1e-9), 1);
+        assert_eq!(resistance_level(1.0), RESISTANCE_LEVELS);
+        assert_eq!(resistance_level(7.0), RESISTANCE_LEVELS);
+        let mut last = 0;
+        for k in 0..=100 {
+            let level = resistance_level(f64::from(k) / 100.0);
+            let m = level_magnitude(level);
+            assert!(m >= last, "magnitude falls at {k}");
+            last = m;
+        }
+        assert_eq!(level_magnitude(RESISTANCE_LEVELS), u16::MAX);
+        assert_eq!(level_magnitude(0), 0);
     }
 }

@@ -9,7 +9,9 @@ use std::time::Instant;
 use glam::DVec3;
 
 use super::{Contact, FrameOutcome, Session};
-use crate::collide::{Collider, DrugAtoms, Response, TouchOptions, respond};
+use crate::collide::{
+    Collider, DrugAtoms, Response, SoftIndex, TouchOptions, respond, respond_soft,
+};
 use crate::model::Molecule;
 use crate::motion::Pose;
 
@@ -71,6 +73,9 @@ pub(super) struct Environment {
     collider: Arc<Collider>,
     drug: Arc<DrugAtoms>,
     owners: Owners,
+    /// The loosened index of the `soft` response, built on its first step
+    /// (and again when its limit changes).
+    soft: Option<Arc<SoftIndex>>,
 }
 
 /// Which molecule's atom each environment atom is.
@@ -153,7 +158,46 @@ impl Session {
             collider,
             drug,
             owners,
+            soft: None,
         })
+    }
+
+    /// The selected molecule's loosened index for the soft limit now,
+    /// built if it is not (once per limit and environment, never per
+    /// frame).
+    fn soft_index(&mut self) -> Option<Arc<SoftIndex>> {
+        let limit = self.settings.soft_limit;
+        let env = self.environment()?;
+        if let Some(s) = &env.soft
+            && s.limit.to_bits() == limit.to_bits()
+        {
+            return Some(Arc::clone(s));
+        }
+        let one = match &env.owners {
+            Owners::One(k) => Some(*k),
+            Owners::Merged(_) => None,
+        };
+        let merged;
+        let receptor = match one {
+            Some(k) => &self.bodies[k].molecule,
+            None => {
+                merged = self.merged_molecule().0;
+                &merged
+            }
+        };
+        let index = SoftIndex::build(
+            receptor,
+            &self.bodies[self.selected].molecule,
+            &self.settings.rule,
+            limit,
+            self.settings.collider,
+        )
+        .ok()?;
+        let index = Arc::new(index);
+        if let Some(env) = self.env.as_mut() {
+            env.soft = Some(Arc::clone(&index));
+        }
+        Some(index)
     }
 
     /// Molecule `k`'s collider in its own frame, built on first use.
@@ -196,6 +240,15 @@ impl Session {
     /// collider: its frame (the atoms' centre), the collider and each
     /// atom's (molecule, atom).
     fn merged_environment(&self) -> (Pose, Collider, Vec<(usize, usize)>) {
+        let (merged, owners) = self.merged_molecule();
+        let frame = Pose::from_translation(merged.centre);
+        let collider = Collider::build(&merged, &self.settings.rule, self.settings.collider);
+        (frame, collider, owners)
+    }
+
+    /// Every molecule but the selected one, at its current pose, as one
+    /// molecule (centred on its atoms), with each atom's (molecule, atom).
+    fn merged_molecule(&self) -> (Molecule, Vec<(usize, usize)>) {
         let mut atoms = Vec::new();
         let mut positions = Vec::new();
         let mut owners = Vec::new();
@@ -209,10 +262,7 @@ impl Session {
                 owners.push((k, i));
             }
         }
-        let merged = Molecule::new("environment", atoms, &positions);
-        let frame = Pose::from_translation(merged.centre);
-        let collider = Collider::build(&merged, &self.settings.rule, self.settings.collider);
-        (frame, collider, owners)
+        (Molecule::new("environment", atoms, &positions), owners)
     }
 
     pub(super) fn move_selected(
@@ -240,6 +290,11 @@ impl Session {
             return;
         }
         let (response, touch) = (self.settings.response, self.settings.touch);
+        let soft = if response == Response::Soft {
+            self.soft_index()
+        } else {
+            None
+        };
         let Some(env) = self.environment() else {
             // Nothing to collide with.
             self.bodies[b].pose = to;
@@ -251,9 +306,13 @@ impl Session {
         let inv = env.frame.inverse();
         let (start, end) = (inv.compose(&from), inv.compose(&to));
         let t0 = Instant::now();
-        let mut r = respond(&env.collider, &env.drug, &start, &end, response, &touch);
+        let mut r = match &soft {
+            Some(soft) => respond_soft(&env.collider, &env.drug, soft, &start, &end, &touch),
+            None => respond(&env.collider, &env.drug, &start, &end, response, &touch),
+        };
         shown_contacts(env, &start, &end, &touch, &mut r);
         out.collision_timed(t0);
+        out.resistance = r.resistance;
         let frame = env.frame;
         let contacts = env.contacts(b, &r.contacts);
         out.t = r.t;
@@ -390,5 +449,45 @@ mod tests {
         assert_eq!(env.collider.len(), n);
         assert!(matches!(&env.owners, Owners::Merged(v) if v.len() == n));
         assert_eq!(env.frame.rotation, glam::DQuat::IDENTITY);
+    }
+
+    #[test]
+    fn soft_presses_in_up_to_its_limit_with_resistance_and_replays_the_same() {
+        let run = |limit: f64| {
+            let (rings, e) = builtin::scene(RadiiSet::Bondi);
+            let mut s = Session::new(vec![rings, e], Settings::default()).expect("session");
+            s.step(&FrameInput::docking(), 0.0);
+            s.step(
+                &FrameInput::with_commands(&[
+                    Command::SetResponse(Response::Soft),
+                    Command::SetSoftLimit(limit),
+                ]),
+                0.0,
+            );
+            let towards = s.bodies[0].pose.translation - s.bodies[1].pose.translation;
+            let (mut deepest, mut resisted) = (0.0f32, 0.0f64);
+            for _ in 0..300 {
+                let out = s.step(
+                    &FrameInput::nudged(towards.normalize() * 0.25, DVec3::ZERO),
+                    0.0,
+                );
+                deepest = out
+                    .contacts
+                    .iter()
+                    .map(Contact::depth)
+                    .fold(deepest, f32::max);
+                resisted = resisted.max(out.resistance);
+            }
+            (deepest, resisted, s.bodies[1].pose)
+        };
+        let (deep, resisted, pose) = run(1.0);
+        assert!(deep > 0.5 && deep <= 1.0 + 1e-4, "pressed {deep} Å");
+        assert!(resisted > 0.5, "resistance {resisted}");
+        assert_eq!(run(1.0).2, pose, "the same frames give the same pose");
+        let (shallow, _, _) = run(0.25);
+        assert!(
+            shallow <= 0.25 + 1e-4 && shallow > 0.1,
+            "pressed {shallow} Å"
+        );
     }
 }

@@ -66,7 +66,7 @@ pub enum Command {
     ToggleCollision,
     /// Use this collision response.
     SetResponse(Response),
-    /// Cycle stop → touch → slide → pass.
+    /// Cycle stop → touch → slide → soft → pass.
     CycleResponse,
     /// Screen-space or object-space motion.
     ToggleSpace,
@@ -107,7 +107,17 @@ pub enum Command {
     RockMore,
     /// Rock with a narrower swing.
     RockLess,
+    /// Set the `soft` response's limit, Å beyond the contact rule.
+    SetSoftLimit(f64),
+    /// Let `soft` press deeper (one step of [`SOFT_LIMIT_STEP`]).
+    SoftLimitMore,
+    /// Let `soft` press less deep.
+    SoftLimitLess,
 }
+
+/// How much [`Command::SoftLimitMore`] and [`Command::SoftLimitLess`]
+/// change the soft limit, Å.
+pub const SOFT_LIMIT_STEP: f64 = 0.25;
 
 impl Command {
     /// Whether the command moves a molecule or the view (rocking pauses).

@@ -471,6 +471,9 @@ pub fn command_token(c: &Command) -> String {
         Command::RockMore => "rock-more".into(),
         Command::RockLess => "rock-less".into(),
         Command::Quit => "quit".into(),
+        Command::SetSoftLimit(x) => format!("soft-limit:{x:?}"),
+        Command::SoftLimitMore => "soft-more".into(),
+        Command::SoftLimitLess => "soft-less".into(),
     }
 }
 
@@ -521,6 +524,12 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
         "rock-more" => no_arg(Command::RockMore),
         "rock-less" => no_arg(Command::RockLess),
         "quit" => no_arg(Command::Quit),
+        "soft-limit" => arg
+            .parse()
+            .map(Command::SetSoftLimit)
+            .map_err(|_| format!("{}: soft-limit needs a number of Å", quoted(tok))),
+        "soft-more" => no_arg(Command::SoftLimitMore),
+        "soft-less" => no_arg(Command::SoftLimitLess),
         _ => Err(format!("unknown command {}", quoted(tok))),
     }
 }

@@ -33,6 +33,7 @@ pub mod keys;
 pub mod labels;
 pub mod log;
 pub mod replay;
+pub mod steer;
 pub mod timing;
 
 use std::sync::Arc;
@@ -93,6 +94,8 @@ pub struct Settings {
     pub collider: ColliderKind,
     /// Screen or object space for motions.
     pub space: Space,
+    /// How far beyond the contact rule `soft` lets a pair press, Å.
+    pub soft_limit: f64,
 }
 
 impl Default for Settings {
@@ -107,6 +110,7 @@ impl Default for Settings {
             rule: ContactRule::default(),
             collider: ColliderKind::Hashed,
             space: Space::Screen,
+            soft_limit: crate::collide::soft::DEFAULT_LIMIT,
         }
     }
 }
@@ -140,6 +144,12 @@ impl Contact {
     pub fn gap(&self) -> f32 {
         self.distance - self.contact
     }
+
+    /// How far the pair presses beyond the contact rule (the `soft`
+    /// response's band), Å; 0 when it does not collide.
+    pub fn depth(&self) -> f32 {
+        (self.contact - self.distance).max(0.0)
+    }
 }
 
 /// What one frame did.
@@ -157,6 +167,9 @@ pub struct FrameOutcome {
     pub new_contact: bool,
     /// Atoms whose highlight changed: (molecule, atom, now in contact).
     pub highlight_changes: Vec<(usize, usize, bool)>,
+    /// The `soft` response's resistance at the new pose, in [0, 1) (0 for
+    /// the other responses): what a controller's rumble follows.
+    pub resistance: f64,
     /// Time spent in collision detection this frame, µs (None: no query).
     pub collision_us: Option<f64>,
     /// Each collision query of this frame, µs (the thesis's per-call timing).
@@ -659,6 +672,13 @@ impl Session {
                     "rocking off".into()
                 });
             }
+            Command::SetSoftLimit(x) => self.set_soft_limit(x, out),
+            Command::SoftLimitMore => {
+                self.set_soft_limit(self.settings.soft_limit + input::SOFT_LIMIT_STEP, out);
+            }
+            Command::SoftLimitLess => {
+                self.set_soft_limit(self.settings.soft_limit - input::SOFT_LIMIT_STEP, out);
+            }
             Command::RockMore | Command::RockLess => {
                 if c == Command::RockMore {
                     self.rock.more();
@@ -669,6 +689,19 @@ impl Session {
                 out.messages.push(format!("rocking ±{deg:.1}°"));
             }
         }
+    }
+
+    /// Sets the soft limit, clamped to [0, [`crate::collide::soft::MAX_LIMIT`]]
+    /// (its loosened index is rebuilt on the next soft step).
+    fn set_soft_limit(&mut self, limit: f64, out: &mut FrameOutcome) {
+        if !limit.is_finite() {
+            out.messages
+                .push("ignored a soft limit that is not a number".into());
+            return;
+        }
+        let limit = limit.clamp(0.0, crate::collide::soft::MAX_LIMIT);
+        self.settings.soft_limit = limit;
+        out.messages.push(format!("soft limit {limit:.2} Å"));
     }
 
     /// [`Command::ViewDrug`]: a new home view that shows the drug; the

@@ -1,0 +1,87 @@
+//! `bump steer`: the fixed steering controller ([`bump::session::steer`]):
+//! from a clear start along a direction, towards the file pose, through a
+//! collision response; reports whether the drug got there.
+
+use bump::collide::Response;
+use bump::session::Settings;
+use bump::session::steer::{MAX_FRAMES, REACHED_RMSD, steer};
+use clap::Args;
+use glam::DVec3;
+
+use super::scene_args::{SceneArgs, parse_vec3};
+
+/// Arguments of `bump steer`.
+#[derive(Debug, Args)]
+pub struct SteerArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Direction of the start from the file pose, X,Y,Z (any length).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    direction: DVec3,
+    /// Collision response: stop, touch, slide, soft or pass.
+    #[arg(long, default_value = "soft", value_parser = parse_response)]
+    response: Response,
+    /// How far beyond the contact rule `soft` lets a pair press, Å.
+    #[arg(long, default_value_t = bump::collide::soft::DEFAULT_LIMIT)]
+    soft_limit: f64,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_response(s: &str) -> Result<Response, String> {
+    Response::parse(s)
+        .ok_or_else(|| format!("unknown response `{s}` (stop, touch, slide, soft or pass)"))
+}
+
+/// Runs `bump steer`.
+pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
+    if !(0.0..=bump::collide::soft::MAX_LIMIT).contains(&args.soft_limit) {
+        anyhow::bail!(
+            "--soft-limit must be between 0 and {} Å, got {}",
+            bump::collide::soft::MAX_LIMIT,
+            args.soft_limit
+        );
+    }
+    let loaded = args.scene.load()?;
+    let settings = Settings {
+        rule: loaded.scene.rule,
+        collider: args.scene.collider,
+        soft_limit: args.soft_limit,
+        ..Settings::default()
+    };
+    let r = steer(
+        loaded.scene.receptor,
+        loaded.scene.drug,
+        settings,
+        args.direction,
+        args.response,
+    )?;
+    if args.json {
+        outln!("{}", serde_json::to_string_pretty(&r)?);
+        return Ok(());
+    }
+    let [x, y, z] = r.direction;
+    outln!(
+        "start {:.1} Å along ({x:.3}, {y:.3}, {z:.3}), response {}",
+        r.start_distance,
+        r.response.name()
+    );
+    outln!(
+        "{} (heavy-atom RMSD ≤ {REACHED_RMSD} Å{}); best {:.2} Å, final {:.2} Å after {} of at most {MAX_FRAMES} frames",
+        if r.reached { "reached" } else { "not reached" },
+        r.reached_frame
+            .map(|f| format!(" at frame {f}"))
+            .unwrap_or_default(),
+        r.best_rmsd,
+        r.final_rmsd,
+        r.frames
+    );
+    outln!(
+        "deepest overlap beyond the contact rule: {:.3} Å; a step takes {:.1} µs (median), {:.1} µs (p99)",
+        r.deepest_overlap,
+        r.step_us_median,
+        r.step_us_p99
+    );
+    Ok(())
+}

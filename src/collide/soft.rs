@@ -1,0 +1,274 @@
+//! The `soft` response: the drug may press into the receptor up to a limit.
+//!
+//! The contact rule says when two atoms collide; `soft` lets a pair overlap
+//! up to `limit` Å beyond it. The motion runs through move-to-touch (and
+//! the slide) with the *loosened* rule (the same rule with its overlap
+//! allowance raised by `limit`), on a collider and a drug copy built for
+//! that rule once ([`SoftIndex`]), so the drug never passes the limit and
+//! never tunnels, however long the step. Inside the band between the
+//! default rule and the limit, the drug meets resistance: the part of the
+//! proposed motion that goes *into* the pressed pairs (its twist minus the
+//! nearest twist that moves no pressed pair closer, see
+//! [`super::response`]'s cone projection) is scaled by
+//! `1 / (1 + 4 E / limit²)`, with `E = Σ depth²` over the pressed pairs (the
+//! shape of Vina's repulsion term, quadratic in the overlap), so one pair
+//! at half the limit halves the push and one at the limit leaves a fifth.
+//! Motion along the contacts and out of them is not resisted: the drug
+//! slides as with `slide` and moves out freely.
+//!
+//! The contacts reported are those of the default rule (the pairs within
+//! the tolerance of its contact distance, and every pressed pair with its
+//! depth), so the session can grade them in colour.
+
+use glam::DVec3;
+
+use super::check::{Pair, pairs_within};
+use super::collider::{Collider, ColliderKind};
+use super::drug::DrugAtoms;
+use super::response::{Response, StepResult, project_onto_cone, slide};
+use super::rule::{ContactRule, RuleError};
+use super::sweep::TouchOptions;
+use crate::model::Molecule;
+use crate::motion::{Pose, Screw};
+
+/// Default soft limit: how far beyond the contact rule a pair may press, Å.
+pub const DEFAULT_LIMIT: f64 = 1.0;
+
+/// Largest soft limit accepted, Å.
+pub const MAX_LIMIT: f64 = 3.0;
+
+/// The loosened index of one receptor and drug: built once per limit.
+#[derive(Debug, Clone)]
+pub struct SoftIndex {
+    /// How far beyond the default rule a pair may press, Å.
+    pub limit: f64,
+    /// The loosened rule.
+    pub rule: ContactRule,
+    /// The receptor indexed for the loosened rule.
+    pub collider: Collider,
+    /// The drug set up for the loosened rule.
+    pub drug: DrugAtoms,
+}
+
+impl SoftIndex {
+    /// Indexes `receptor` and `drug` for `rule` loosened by `limit` Å.
+    ///
+    /// # Errors
+    /// When `limit` is not finite, negative or above [`MAX_LIMIT`].
+    pub fn build(
+        receptor: &Molecule,
+        drug: &Molecule,
+        rule: &ContactRule,
+        limit: f64,
+        kind: ColliderKind,
+    ) -> Result<Self, RuleError> {
+        let soft = loosened(rule, limit)?;
+        let collider = Collider::build(receptor, &soft, kind);
+        let drug = DrugAtoms::new(drug, &soft, collider.max_radius());
+        Ok(Self {
+            limit,
+            rule: soft,
+            collider,
+            drug,
+        })
+    }
+}
+
+/// `rule` with its overlap allowance raised by `limit` Å.
+///
+/// # Errors
+/// When `limit` is not finite, negative or above [`MAX_LIMIT`].
+pub fn loosened(rule: &ContactRule, limit: f64) -> Result<ContactRule, RuleError> {
+    if !(0.0..=MAX_LIMIT).contains(&limit) {
+        return Err(RuleError {
+            what: "soft limit",
+            value: limit as f32,
+        });
+    }
+    ContactRule::new(rule.overlap + limit as f32, rule.hbond_allowance)
+}
+
+/// How far a pair presses beyond the default rule (0 when it does not).
+#[inline]
+pub fn depth(p: &Pair) -> f32 {
+    (p.contact - p.distance).max(0.0)
+}
+
+/// The resistance of the pressed pairs in `pairs`, in [0, 1): the fraction
+/// of a push into them that `soft` takes away.
+pub fn resistance(pairs: &[Pair], limit: f64) -> f64 {
+    if limit <= 0.0 {
+        return 0.0;
+    }
+    let e: f64 = pairs.iter().map(|p| f64::from(depth(p)).powi(2)).sum();
+    1.0 - 1.0 / (1.0 + 4.0 * e / (limit * limit))
+}
+
+/// The `soft` response to the step from `start` to `end`: `collider` and
+/// `drug` are indexed for the default rule, `soft` for the loosened one.
+pub fn respond_soft(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    soft: &SoftIndex,
+    start: &Pose,
+    end: &Pose,
+    opts: &TouchOptions,
+) -> StepResult {
+    let tol = opts.tolerance as f32;
+    let pressed: Vec<Pair> = pairs_within(collider, drug, start, tol)
+        .into_iter()
+        .filter(|p| depth(p) > 0.0)
+        .collect();
+    let k = 1.0 - resistance(&pressed, soft.limit);
+    let target = if pressed.is_empty() || k >= 1.0 {
+        *end
+    } else {
+        resisted(collider, drug, start, end, &pressed, k)
+    };
+    let mut r = slide(&soft.collider, &soft.drug, start, &target, opts);
+    r.response = Response::Soft;
+    r.contacts = pairs_within(collider, drug, &r.pose, tol);
+    r.colliding = r.contacts.iter().copied().filter(Pair::collides).collect();
+    r.resistance = resistance(&r.colliding, soft.limit);
+    r
+}
+
+/// The end of the step from `start` to `end` with its part into the
+/// `pressed` pairs scaled by `k`.
+fn resisted(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    start: &Pose,
+    end: &Pose,
+    pressed: &[Pair],
+    k: f64,
+) -> Pose {
+    let screw = Screw::between(*start, *end);
+    let centre = start.translation;
+    let v = screw.velocity_at(centre);
+    let w = screw.axis() * screw.angle();
+    let translate_only = screw.angle() == 0.0;
+    let l = drug.extent.max(1.0);
+    let rows: Vec<[f64; 6]> = pressed
+        .iter()
+        .filter_map(|p| {
+            let x = start.transform_point(drug.local[p.drug as usize].as_dvec3());
+            let q = collider.atom_position(p.receptor).as_dvec3();
+            let n = (x - q).try_normalize()?;
+            let rn = if translate_only {
+                DVec3::ZERO
+            } else {
+                (x - centre).cross(n) / l
+            };
+            Some([n.x, n.y, n.z, rn.x, rn.y, rn.z])
+        })
+        .collect();
+    let x = [v.x, v.y, v.z, w.x * l, w.y * l, w.z * l];
+    let free = project_onto_cone(x, &rows);
+    let u: [f64; 6] = std::array::from_fn(|i| free[i] + k * (x[i] - free[i]));
+    let v = DVec3::new(u[0], u[1], u[2]);
+    let w = DVec3::new(u[3], u[4], u[5]) / l;
+    start.twisted(v, w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collide::check::check;
+    use crate::collide::sweep::turn;
+    use crate::model::{RadiiSet, builtin};
+    use crate::rng::Rng;
+
+    /// Brute force: every pair's depth beyond the default rule, in f64.
+    fn deepest(receptor: &Molecule, drug: &Molecule, rule: &ContactRule, rel: &Pose) -> f64 {
+        let mut most = 0.0f64;
+        for (j, a) in receptor.atoms.iter().enumerate() {
+            let q = receptor.local[j].as_dvec3();
+            for (i, b) in drug.atoms.iter().enumerate() {
+                let x = rel.transform_point(drug.local[i].as_dvec3());
+                let c = f64::from(rule.contact_distance(a.radius, a.polar, b.radius, b.polar));
+                most = most.max(c - (x - q).length());
+            }
+        }
+        most
+    }
+
+    #[test]
+    fn soft_never_presses_beyond_its_limit_nor_tunnels() {
+        let (rings, e) = builtin::scene(RadiiSet::Bondi);
+        let rule = ContactRule::default();
+        let hard = Collider::build(&rings, &rule, ColliderKind::Hashed);
+        let drug = DrugAtoms::new(&e, &rule, hard.max_radius());
+        let opts = TouchOptions::default();
+        let mut rng = Rng(44);
+        let mut pressed_some = false;
+        for limit in [0.0, 0.5, 1.0, 2.0] {
+            let soft =
+                SoftIndex::build(&rings, &e, &rule, limit, ColliderKind::Hashed).expect("index");
+            for _ in 0..40 {
+                // Start clear of the rings, then push hard towards their
+                // centre in steps of up to 3 Å and 20°.
+                let mut pose = Pose::from_translation(
+                    DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 1.0).normalize() * 14.0,
+                );
+                if !check(&hard, &drug, &pose).is_empty() {
+                    continue;
+                }
+                for _ in 0..12 {
+                    let to_centre = -pose.translation;
+                    let step = to_centre.normalize_or_zero() * rng.range(0.5, 3.0)
+                        + DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0);
+                    let axis = DVec3::new(rng.range(-1.0, 1.0), 1.0, rng.range(-1.0, 1.0));
+                    let end = Pose::new(
+                        turn(axis, rng.range(-20.0, 20.0)) * pose.rotation,
+                        pose.translation + step,
+                    );
+                    let r = respond_soft(&hard, &drug, &soft, &pose, &end, &opts);
+                    // Never beyond the limit at the end pose …
+                    let d = deepest(&rings, &e, &rule, &r.pose);
+                    assert!(d <= limit + 1e-4, "limit {limit}: {d} Å deep");
+                    // … nor anywhere along the path taken (finely sampled).
+                    let path = Screw::between(pose, r.pose);
+                    for s in 1..=32 {
+                        let p = path.pose_at(f64::from(s) / 32.0);
+                        let d = deepest(&rings, &e, &rule, &p);
+                        assert!(d <= limit + 1e-3, "limit {limit}: {d} Å deep on the path");
+                    }
+                    pressed_some |= d > 0.05;
+                    let shown = r.contacts.iter().map(|p| f64::from(depth(p)));
+                    assert!(shown.fold(0.0, f64::max) <= limit + 1e-4);
+                    assert!((0.0..1.0).contains(&r.resistance));
+                    pose = r.pose;
+                }
+            }
+        }
+        assert!(pressed_some, "no step pressed into the band");
+    }
+
+    #[test]
+    fn soft_moves_out_freely_and_resists_pushing_in() {
+        let (rings, e) = builtin::scene(RadiiSet::Bondi);
+        let rule = ContactRule::default();
+        let hard = Collider::build(&rings, &rule, ColliderKind::Hashed);
+        let drug = DrugAtoms::new(&e, &rule, hard.max_radius());
+        let soft = SoftIndex::build(&rings, &e, &rule, 1.0, ColliderKind::Hashed).expect("index");
+        let opts = TouchOptions::default();
+        let dir = DVec3::new(0.1, 0.2, -1.0).normalize();
+        let mut pose = Pose::from_translation(-dir * 20.0);
+        // Press in with 0.2 Å steps until it stops.
+        let mut depths = Vec::new();
+        for _ in 0..400 {
+            let end = Pose::new(pose.rotation, pose.translation + dir * 0.2);
+            let r = respond_soft(&hard, &drug, &soft, &pose, &end, &opts);
+            depths.push(r.contacts.iter().map(depth).fold(0.0f32, f32::max));
+            pose = r.pose;
+        }
+        let most = depths.iter().copied().fold(0.0f32, f32::max);
+        assert!(most > 0.5 && most <= 1.0 + 1e-4, "pressed {most} Å");
+        // Out again: the whole step is taken.
+        let end = Pose::new(pose.rotation, pose.translation - dir * 0.2);
+        let r = respond_soft(&hard, &drug, &soft, &pose, &end, &opts);
+        assert_eq!(r.t, 1.0);
+        assert!((r.pose.translation - end.translation).length() < 1e-9);
+    }
+}
