@@ -24,6 +24,7 @@
 mod accuracy;
 mod frames;
 mod layers;
+mod load;
 mod scaling;
 mod svg;
 mod table1;
@@ -43,6 +44,7 @@ const SECTIONS: &[&Section] = &[
     &layers::SECTION,
     &table1::SECTION,
     &frames::SECTION,
+    &load::SECTION,
 ];
 
 /// The report's first line; an existing file that does not start with it

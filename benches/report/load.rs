@@ -4,19 +4,19 @@
 //! reading the same files (`benches/gemmi_load.py`, when Python and gemmi
 //! are there; `BUMP_PYTHON` names the interpreter, default `python3`).
 //!
-//! `cargo bench --bench load` prints the section as markdown; [`section`]
-//! returns it for the report generator. Runs alternate between the files
-//! (and between bump and gemmi) so that a burst of load on a shared
-//! machine falls on all of them; each figure is the minimum and the
-//! median of `BUMP_LOAD_RUNS` runs (default 7). Peak resident memory
-//! comes from `/usr/bin/time -v`.
-
-#![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
+//! `cargo bench --bench report -- --only load` prints it alone. Runs
+//! alternate between the files (and between bump and gemmi) so that a burst
+//! of load on a shared machine falls on all of them; each figure is the
+//! minimum and the median of 7 runs (1 in a quick run). Peak resident
+//! memory comes from `/usr/bin/time -v`.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
+
+use super::timing::Progress;
+use super::{Context, Part, Section};
 
 /// The files timed: (file, what it is).
 const FILES: [(&str, &str); 4] = [
@@ -185,7 +185,7 @@ pub fn section(bump: &Path, data: &Path, files: &[(&str, &str)], runs: usize) ->
         }
         let atoms = atoms_read(bump, path, &data.join(DRUG)).unwrap_or(0);
         let (lo, mid) = min_median(&mut walls[k]);
-        let name = path.file_name().unwrap().to_string_lossy();
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
         let peer = peers
             .as_ref()
             .and_then(|p| p.iter().find(|v| v["file"].as_str() == Some(name.as_ref())));
@@ -221,23 +221,28 @@ pub fn section(bump: &Path, data: &Path, files: &[(&str, &str)], runs: usize) ->
     out
 }
 
-fn main() {
-    let data = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/pdb"));
-    if !data.join("MANIFEST.md").is_file() {
-        eprintln!("SKIP: {} not found", data.display());
-        return;
-    }
-    let runs = std::env::var("BUMP_LOAD_RUNS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(7);
+/// The section: all files, 7 runs each (one run of the smallest file in a
+/// quick run).
+pub const SECTION: Section = Section {
+    name: "load",
+    steps,
+    run,
+};
+
+fn steps(ctx: &Context) -> usize {
+    usize::from(ctx.data.is_some())
+}
+
+fn run(ctx: &Context, progress: &mut Progress) -> Part {
+    let Some(data) = ctx.data.as_ref() else {
+        return Part::text("## Loading\n\nSkipped: `../shared/pdb` not found.\n".to_string());
+    };
+    progress.step("loading, beside gemmi");
     let bump = PathBuf::from(env!("CARGO_BIN_EXE_bump"));
-    if std::env::args().any(|a| a == "--bench") {
-        println!("{}", section(&bump, &data, &FILES, runs));
+    let md = if ctx.quick {
+        section(&bump, data, &FILES[3..], 1)
     } else {
-        // `cargo test --all-targets` runs this too: one quick run of the
-        // smallest file, to show the section still renders.
-        let table = section(&bump, &data, &FILES[3..], 1);
-        assert!(table.contains("| `1ubq.cif`"), "{table}");
-    }
+        section(&bump, data, &FILES, 7)
+    };
+    Part::text(md)
 }
