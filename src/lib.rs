@@ -8,6 +8,8 @@
 //! crate, so an import of the shell from the core does not compile.
 //!
 //! - [`model`]: molecules, radii, loading PDB/mmCIF/SDF, the built-in scene.
+//! - [`chem`]: bonds, bond orders, aromaticity, Vina atom types, rotatable
+//!   bonds and the torsion tree, Gasteiger charges.
 //! - [`motion`]: poses and screw interpolation.
 //! - [`collide`]: the contact rule, colliders, static checks, move-to-touch,
 //!   collision responses and grid statistics.
@@ -47,6 +49,7 @@
 
 #[cfg(feature = "app")]
 pub mod app;
+pub mod chem;
 pub mod collide;
 pub mod input;
 pub mod model;
@@ -55,4 +58,5 @@ pub mod motion;
 pub mod render;
 pub mod rng;
 pub mod scene;
+pub mod score;
 pub mod session;

@@ -3,6 +3,9 @@
 //!
 //! Loading gives a [`Structure`]: every kept atom of the first model, with
 //! alternate locations resolved and hydrogens dropped or kept as asked.
+//! Dropped hydrogens are not lost: they are kept apart
+//! ([`FileChemistry::hydrogens`]), each with its heavy atom, for the
+//! chemistry ([`crate::chem`]) and the writer, never for collision.
 //! [`select`] turns a structure into the receptor and drug [`Molecule`]s.
 
 pub mod builtin;
@@ -21,7 +24,7 @@ use serde::Serialize;
 
 pub use element::RadiiSet;
 pub use error::LoadError;
-pub use molecule::{AtomInfo, Molecule};
+pub use molecule::{AtomInfo, AttachedHydrogens, Molecule};
 pub use select::{LigandSpec, receptor_only, split_complex};
 
 /// Whether hydrogens are kept when loading.
@@ -65,6 +68,46 @@ pub struct Structure {
     /// lower index first, sorted. Bonds to atoms that were not kept (dropped
     /// hydrogens, other models) are left out.
     pub bonds: Vec<FileBond>,
+    /// What else the file says about the chemistry: the hydrogens kept
+    /// apart from `atoms`, formal charges, whether `bonds` is complete.
+    pub file_chem: FileChemistry,
+}
+
+/// A hydrogen of the file kept apart from a structure's atoms (when
+/// hydrogens are dropped): it takes no part in collision, but tells the
+/// chemistry which atoms carry hydrogens, and the writer writes it.
+#[derive(Debug, Clone)]
+pub struct FileHydrogen {
+    /// Its identity as the file gives it.
+    pub atom: AtomInfo,
+    /// File coordinates.
+    pub position: DVec3,
+    /// The heavy atom it is bonded to (index into [`Structure::atoms`]):
+    /// the one the file's bonds give, else the nearest within
+    /// [`HYDROGEN_BOND_REACH`]; `None` for a hydrogen bonded to nothing.
+    pub parent: Option<usize>,
+    /// How many of the structure's atoms precede it in the file (it is
+    /// written before atom `before`).
+    pub before: usize,
+}
+
+/// Farthest a hydrogen may be from the heavy atom it is given to (Å): an
+/// S–H bond is 1.34 Å, and files written at low precision stretch it.
+pub const HYDROGEN_BOND_REACH: f64 = 1.6;
+
+/// The chemistry a file states beyond atoms and bonds.
+#[derive(Debug, Clone, Default)]
+pub struct FileChemistry {
+    /// Hydrogens kept apart from the atoms, in file order.
+    pub hydrogens: Vec<FileHydrogen>,
+    /// Formal charges per atom (an SDF's charge field or `M  CHG`); empty
+    /// when the file gives none.
+    pub formal_charges: Vec<i8>,
+    /// True when `bonds` holds every bond of the atoms with its order (an
+    /// SDF bond block), so nothing need be perceived.
+    pub bonds_complete: bool,
+    /// True for a small-molecule file (SDF/MOL).
+    pub from_sdf: bool,
 }
 
 /// The order of a bond as a file gives it.
@@ -127,7 +170,23 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
                 record,
             });
         }
-        pdb::load_pdbtbx(path, opts)?
+        // Hydrogens are read and then kept apart here, so that the
+        // chemistry knows them even when they are dropped.
+        let keep = LoadOptions {
+            hydrogens: Hydrogens::Keep,
+            ..opts.clone()
+        };
+        let mut loaded = pdb::load_pdbtbx(path, &keep)?;
+        if opts.hydrogens == Hydrogens::Drop {
+            let dropped = set_hydrogens_apart(&mut loaded.structure);
+            if loaded.structure.atoms.is_empty() {
+                return Err(LoadError::NoAtoms {
+                    path: path.display().to_string(),
+                    dropped_hydrogens: dropped,
+                });
+            }
+        }
+        loaded
     } else {
         return Err(LoadError::UnknownFormat {
             path: path.display().to_string(),
@@ -140,6 +199,145 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
         });
     }
     Ok(loaded)
+}
+
+/// Moves the hydrogens (and deuteriums) of `s.atoms` into
+/// `s.file_chem.hydrogens`, each given its heavy atom (by the file's bonds,
+/// else the nearest heavy atom within [`HYDROGEN_BOND_REACH`], found through
+/// a grid so the cost is linear), and renumbers the bonds and charges.
+/// Residues left without atoms are listed in `hydrogen_only`. Returns the
+/// number of hydrogens moved.
+pub fn set_hydrogens_apart(s: &mut Structure) -> usize {
+    let is_h: Vec<bool> = s
+        .atoms
+        .iter()
+        .map(|a| element::is_hydrogen(&a.element))
+        .collect();
+    let moved = is_h.iter().filter(|&&h| h).count();
+    if moved == 0 {
+        return 0;
+    }
+    let n = s.atoms.len();
+    let mut new_index = vec![usize::MAX; n];
+    let mut kept = 0;
+    let mut before = vec![0usize; n];
+    for i in 0..n {
+        before[i] = kept;
+        if !is_h[i] {
+            new_index[i] = kept;
+            kept += 1;
+        }
+    }
+    // Parents from the file's bonds.
+    let mut parent: Vec<Option<usize>> = vec![None; n];
+    let mut bonds = Vec::with_capacity(s.bonds.len());
+    for b in &s.bonds {
+        match (is_h[b.a], is_h[b.b]) {
+            (false, false) => bonds.push(FileBond {
+                a: new_index[b.a],
+                b: new_index[b.b],
+                order: b.order,
+            }),
+            (true, false) => parent[b.a] = parent[b.a].or(Some(new_index[b.b])),
+            (false, true) => parent[b.b] = parent[b.b].or(Some(new_index[b.a])),
+            (true, true) => {}
+        }
+    }
+    // The rest by distance.
+    let heavy: Vec<usize> = (0..n).filter(|&i| !is_h[i]).collect();
+    let centre = s.positions.first().copied().unwrap_or(DVec3::ZERO);
+    let pts: Vec<glam::Vec3> = heavy
+        .iter()
+        .map(|&i| (s.positions[i] - centre).as_vec3())
+        .collect();
+    let grid = crate::chem::grid::NeighbourGrid::new(&pts, HYDROGEN_BOND_REACH as f32);
+    let mut hydrogens = Vec::with_capacity(moved);
+    let mut hydrogen_keys = Vec::new();
+    for i in 0..n {
+        if !is_h[i] {
+            continue;
+        }
+        let p = parent[i].or_else(|| {
+            let here = (s.positions[i] - centre).as_vec3();
+            let mut best: Option<(f32, usize)> = None;
+            grid.for_each_near(here, |k| {
+                let j = heavy[k as usize];
+                if crate::chem::elements::is_metal(&s.atoms[j].element) {
+                    return;
+                }
+                let d = here.distance(pts[k as usize]);
+                if d <= HYDROGEN_BOND_REACH as f32 && best.is_none_or(|(bd, bj)| (d, j) < (bd, bj))
+                {
+                    best = Some((d, j));
+                }
+            });
+            best.map(|(_, j)| new_index[j])
+        });
+        hydrogen_keys.push(i);
+        hydrogens.push(FileHydrogen {
+            atom: s.atoms[i].clone(),
+            position: s.positions[i],
+            parent: p,
+            before: before[i],
+        });
+    }
+    // Residues that had only hydrogens.
+    let kept_residues: std::collections::HashSet<(&str, i64, &str, &str)> = s
+        .atoms
+        .iter()
+        .zip(&is_h)
+        .filter(|(_, h)| !**h)
+        .map(|(a, _)| {
+            (
+                a.chain.as_str(),
+                a.seq,
+                a.insertion.as_str(),
+                a.residue.as_str(),
+            )
+        })
+        .collect();
+    let mut seen = std::collections::HashSet::new();
+    let mut hydrogen_only = Vec::new();
+    for &i in &hydrogen_keys {
+        let a = &s.atoms[i];
+        let key = (
+            a.chain.as_str(),
+            a.seq,
+            a.insertion.as_str(),
+            a.residue.as_str(),
+        );
+        if !kept_residues.contains(&key) && seen.insert(key) {
+            hydrogen_only.push((
+                a.residue.clone(),
+                format!("{}/{}{}", a.chain, a.seq, a.insertion),
+            ));
+        }
+    }
+    let charges = if s.file_chem.formal_charges.len() == n {
+        (0..n)
+            .filter(|&i| !is_h[i])
+            .map(|i| s.file_chem.formal_charges[i])
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut k = 0;
+    s.atoms.retain(|_| {
+        k += 1;
+        !is_h[k - 1]
+    });
+    let mut k = 0;
+    s.positions.retain(|_| {
+        k += 1;
+        !is_h[k - 1]
+    });
+    bonds.sort_unstable();
+    bonds.dedup();
+    s.bonds = bonds;
+    s.hydrogen_only.extend(hydrogen_only);
+    s.file_chem.formal_charges = charges;
+    s.file_chem.hydrogens.extend(hydrogens);
+    moved
 }
 
 /// Largest coordinate magnitude, in Å, accepted from a file. Atoms are

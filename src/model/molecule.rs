@@ -5,9 +5,19 @@
 //! atoms; each atom's position relative to it is stored in f32 (`local`), which
 //! keeps full precision however far from the origin the file places the
 //! molecule. A [`crate::motion::Pose`] (f64) places the molecule in the world.
+//!
+//! A molecule also keeps what its chemistry needs: the file's hydrogens
+//! ([`AttachedHydrogens`], apart from the atoms: they are neither collided
+//! nor drawn), the bonds and formal charges the file states, and, computed
+//! when first asked for ([`Molecule::chemistry`]), its perceived
+//! [`Chemistry`].
+
+use std::sync::{Arc, OnceLock};
 
 use glam::{DVec3, Vec3};
 use serde::Serialize;
+
+use crate::chem::{Bond, Chemistry};
 
 /// One atom's identity, as the file gave it, plus its radius.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -42,6 +52,61 @@ impl AtomInfo {
     }
 }
 
+/// A molecule's hydrogens from the file, kept apart from its atoms: each
+/// with its heavy atom, name, serial and place in the file's order, and
+/// its position relative to the molecule's centre (so the molecule's pose
+/// places it as it places the atoms). Compact arrays, one entry per
+/// hydrogen; names share one string.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct AttachedHydrogens {
+    /// The heavy atom (index into [`Molecule::atoms`]) each is bonded to.
+    pub parent: Vec<u32>,
+    /// Positions relative to [`Molecule::centre`].
+    pub local: Vec<Vec3>,
+    /// Serial numbers as the file gives them.
+    pub serial: Vec<i64>,
+    /// Place in the file's order: written before heavy atom `before[i]`
+    /// (after all of them when it equals the atom count).
+    pub before: Vec<u32>,
+    names: String,
+    name_ends: Vec<u32>,
+}
+
+impl AttachedHydrogens {
+    /// Number of hydrogens.
+    pub fn len(&self) -> usize {
+        self.parent.len()
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.parent.is_empty()
+    }
+
+    /// Adds a hydrogen.
+    pub fn push(&mut self, parent: u32, local: Vec3, serial: i64, before: u32, name: &str) {
+        self.parent.push(parent);
+        self.local.push(local);
+        self.serial.push(serial);
+        self.before.push(before);
+        self.names.push_str(name);
+        self.name_ends
+            .push(u32::try_from(self.names.len()).unwrap_or(u32::MAX));
+    }
+
+    /// The name of hydrogen `i` as the file gives it.
+    pub fn name(&self, i: usize) -> &str {
+        let start = if i == 0 {
+            0
+        } else {
+            self.name_ends[i - 1] as usize
+        };
+        self.names
+            .get(start..self.name_ends[i] as usize)
+            .unwrap_or("")
+    }
+}
+
 /// A rigid molecule ready for collision detection.
 #[derive(Debug, Clone)]
 pub struct Molecule {
@@ -53,6 +118,20 @@ pub struct Molecule {
     pub centre: DVec3,
     /// Atom positions relative to `centre`, same order as `atoms`.
     pub local: Vec<Vec3>,
+    /// The file's hydrogens, apart from `atoms`.
+    pub hydrogens: AttachedHydrogens,
+    /// Bonds between atoms that the file states (SDF bond block, `CONECT`,
+    /// `struct_conn`), indices into `atoms`.
+    pub file_bonds: Vec<Bond>,
+    /// Formal charges per atom from the file; empty when none.
+    pub formal_charges: Vec<i8>,
+    /// True when `file_bonds` holds every bond with its order (an SDF).
+    pub bonds_complete: bool,
+    /// True when the molecule came from an SDF/MOL file.
+    pub from_sdf: bool,
+    /// The perceived chemistry, computed when first asked for. Set the
+    /// fields above before that.
+    chemistry: OnceLock<Arc<Chemistry>>,
 }
 
 impl Molecule {
@@ -71,7 +150,30 @@ impl Molecule {
             atoms,
             centre,
             local,
+            hydrogens: AttachedHydrogens::default(),
+            file_bonds: Vec::new(),
+            formal_charges: Vec::new(),
+            bonds_complete: false,
+            from_sdf: false,
+            chemistry: OnceLock::new(),
         }
+    }
+
+    /// The molecule's chemistry ([`crate::chem::perceive`]): computed on the
+    /// first call (linear in the atom count), then kept.
+    pub fn chemistry(&self) -> &Chemistry {
+        self.chemistry
+            .get_or_init(|| Arc::new(crate::chem::perceive(self)))
+    }
+
+    /// True once [`Molecule::chemistry`] has been computed.
+    pub fn has_chemistry(&self) -> bool {
+        self.chemistry.get().is_some()
+    }
+
+    /// Position of hydrogen `i` in file coordinates (f64).
+    pub fn hydrogen_file_position(&self, i: usize) -> DVec3 {
+        self.centre + self.hydrogens.local[i].as_dvec3()
     }
 
     /// Number of atoms.

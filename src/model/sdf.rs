@@ -1,8 +1,14 @@
 //! Reading MDL SDF / molfile records (V2000 and V3000), plain or gzipped.
 //!
 //! A file holds records separated by `$$$$` lines; [`LoadOptions::sdf_record`]
-//! picks one (1-based, the first by default). Only the atom block is read:
-//! coordinates and element symbols. Bonds and properties are skipped.
+//! picks one (1-based, the first by default). The atom block gives
+//! coordinates, element symbols and formal charges (the charge column, or
+//! `M  CHG` lines, which replace it; `CHG=` in V3000); the bond block gives
+//! [`Structure::bonds`] with their orders (type 4 aromatic, the query types
+//! 5–8 unspecified). A bond naming atom 0, an atom beyond the count or the
+//! same atom twice is left out with a warning naming the line. Hydrogens,
+//! when dropped, are kept apart with their bonds
+//! ([`super::set_hydrogens_apart`]). Properties are skipped.
 //!
 //! The counts line (record line 4) ends in the version, `V2000` (or nothing,
 //! in old files) or `V3000`; another is refused. V2000: the counts line gives
@@ -28,7 +34,10 @@ use glam::DVec3;
 
 use super::element;
 use super::pdb::{RadiusLookup, file_name, read_bytes};
-use super::{AtomInfo, Hydrogens, LoadError, LoadOptions, Loaded, MAX_FILE_COORDINATE, Structure};
+use super::{
+    AtomInfo, BondOrder, FileBond, FileChemistry, Hydrogens, LoadError, LoadOptions, Loaded,
+    MAX_FILE_COORDINATE, Structure,
+};
 
 /// Longest residue label taken from a record's title line.
 const MAX_RESIDUE_CHARS: usize = 8;
@@ -92,6 +101,7 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
         label: path_label,
     };
     let parsed = record.parse()?;
+    let extras = record.extras(parsed.len());
 
     let residue = {
         let t = record.lines.first().map_or("", |l| l.trim());
@@ -104,13 +114,8 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
     let mut lookup = RadiusLookup::new(opts.radii);
     let mut atoms = Vec::with_capacity(parsed.len());
     let mut positions = Vec::with_capacity(parsed.len());
-    let mut dropped = 0;
     for (i, (symbol, pos)) in parsed.into_iter().enumerate() {
         let element = element::normalize_symbol(&symbol);
-        if opts.hydrogens == Hydrogens::Drop && element::is_hydrogen(&element) {
-            dropped += 1;
-            continue;
-        }
         let serial = i + 1;
         atoms.push(AtomInfo {
             serial: i64::try_from(serial).unwrap_or(i64::MAX),
@@ -126,13 +131,49 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
         });
         positions.push(pos);
     }
-    if atoms.is_empty() {
+    let mut bonds: Vec<FileBond> = extras
+        .bonds
+        .iter()
+        .map(|&(a, b, order)| FileBond {
+            a: a.min(b),
+            b: a.max(b),
+            order,
+        })
+        .collect();
+    bonds.sort_unstable();
+    bonds.dedup_by_key(|b| (b.a, b.b));
+    let n_atoms = atoms.len();
+    let mut structure = Structure {
+        name: String::new(),
+        atoms,
+        positions,
+        hydrogen_only: Vec::new(),
+        bonds,
+        file_chem: FileChemistry {
+            hydrogens: Vec::new(),
+            formal_charges: if extras.charges.iter().any(|&q| q != 0) {
+                extras.charges
+            } else {
+                Vec::new()
+            },
+            bonds_complete: extras.bond_block || n_atoms == 1,
+            from_sdf: true,
+        },
+    };
+    let dropped = if opts.hydrogens == Hydrogens::Drop {
+        super::set_hydrogens_apart(&mut structure)
+    } else {
+        0
+    };
+    // Record residues are never "hydrogen only" in a useful sense.
+    structure.hydrogen_only.clear();
+    if structure.atoms.is_empty() {
         return Err(LoadError::NoAtoms {
             path: path_label.to_string(),
             dropped_hydrogens: dropped,
         });
     }
-    let mut warnings = Vec::new();
+    let mut warnings = extras.warnings;
     if records.len() > 1 {
         warnings.push(format!(
             "{path_label}: file holds {} records; using record {wanted}",
@@ -146,14 +187,9 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
         1 => file_name(Path::new(path_label)),
         _ => format!("{} record {wanted}", file_name(Path::new(path_label))),
     };
+    structure.name = name;
     Ok(Loaded {
-        structure: Structure {
-            name,
-            atoms,
-            positions,
-            hydrogen_only: Vec::new(),
-            bonds: Vec::new(),
-        },
+        structure,
         warnings,
     })
 }
@@ -352,7 +388,10 @@ impl Record<'_> {
         Ok(DVec3::from_array(v))
     }
 
-    fn parse_v3000(&self) -> Result<RawAtoms, LoadError> {
+    /// The record's logical `M  V30` lines (continuations joined), each
+    /// with the record line index of its first physical line, and the
+    /// index of the `M  END` line.
+    fn v30_logical(&self) -> Result<(Vec<(usize, String)>, usize), LoadError> {
         // Logical V30 lines: (record line index of the first physical line, text).
         let mut logical: Vec<(usize, String)> = Vec::new();
         let mut pending: Option<(usize, String)> = None;
@@ -388,6 +427,11 @@ impl Record<'_> {
                 "V3000 line ends with '-' but no continuation line follows",
             ));
         }
+        Ok((logical, end_at))
+    }
+
+    fn parse_v3000(&self) -> Result<RawAtoms, LoadError> {
+        let (logical, end_at) = self.v30_logical()?;
 
         let upper = |s: &str| s.trim().to_ascii_uppercase();
         let Some((counts_i, counts)) = logical.iter().find(|(_, t)| upper(t).starts_with("COUNTS"))
@@ -450,6 +494,255 @@ impl Record<'_> {
             atoms.push((fields[1].trim_matches('"').to_string(), pos));
         }
         Err(self.err(end_at, "V3000 atom block has no END ATOM line"))
+    }
+}
+
+/// What a record says beyond its atoms: bonds and formal charges.
+#[derive(Debug, Default)]
+struct Extras {
+    /// Bonds as (first atom, second atom) 0-based, with the order.
+    bonds: Vec<(usize, usize, BondOrder)>,
+    /// Formal charge per atom (all atoms of the record).
+    charges: Vec<i8>,
+    /// True when the record has a bond block with at least one bond.
+    bond_block: bool,
+    /// Problems that leave a bond out, naming the line.
+    warnings: Vec<String>,
+}
+
+/// The order of an MDL bond type (1–3 as such, 4 aromatic, the query types
+/// 5–8 unspecified).
+fn mdl_order(code: i64) -> Option<BondOrder> {
+    Some(match code {
+        1 => BondOrder::Single,
+        2 => BondOrder::Double,
+        3 => BondOrder::Triple,
+        4 => BondOrder::Aromatic,
+        5..=8 => BondOrder::Unspecified,
+        _ => return None,
+    })
+}
+
+impl Record<'_> {
+    /// A warning naming the file and line of record line `i`.
+    fn warning(&self, i: usize, what: String) -> String {
+        format!("{}:{}: {what}", self.label, self.line_no(i))
+    }
+
+    /// Checks a bond's atom numbers (1-based, as written) against the
+    /// atom count; the 0-based pair when both are atoms.
+    fn bond_atoms(
+        &self,
+        i: usize,
+        a: i64,
+        b: i64,
+        n_atoms: usize,
+        out: &mut Extras,
+    ) -> Option<(usize, usize)> {
+        let ok = |x: i64| x >= 1 && usize::try_from(x).is_ok_and(|x| x <= n_atoms);
+        for x in [a, b] {
+            if !ok(x) {
+                out.warnings.push(self.warning(
+                    i,
+                    format!(
+                        "bond names atom {x}, but the atoms are numbered 1 to {n_atoms}; \
+                         the bond is left out"
+                    ),
+                ));
+                return None;
+            }
+        }
+        if a == b {
+            out.warnings
+                .push(self.warning(i, format!("bond joins atom {a} to itself; it is left out")));
+            return None;
+        }
+        Some((usize::try_from(a - 1).ok()?, usize::try_from(b - 1).ok()?))
+    }
+
+    /// Reads the bond block and charges of a record whose atoms `parse`
+    /// read (`n_atoms` of them). Never fails: a malformed bond line is
+    /// left out with a warning.
+    fn extras(&self, n_atoms: usize) -> Extras {
+        let mut out = Extras {
+            charges: vec![0; n_atoms],
+            ..Extras::default()
+        };
+        let v3000 = self
+            .lines
+            .get(3)
+            .and_then(|c| version_tag(c))
+            .is_some_and(|t| t.eq_ignore_ascii_case("V3000"));
+        if v3000 {
+            self.extras_v3000(n_atoms, &mut out);
+        } else {
+            self.extras_v2000(n_atoms, &mut out);
+        }
+        out.bond_block = !out.bonds.is_empty();
+        out
+    }
+
+    fn extras_v2000(&self, n_atoms: usize, out: &mut Extras) {
+        let counts = self.lines.get(3).copied().unwrap_or("");
+        let n_bonds = counts
+            .get(3..6)
+            .and_then(|f| f.trim().parse::<usize>().ok())
+            .or_else(|| {
+                counts
+                    .split_whitespace()
+                    .nth(1)
+                    .and_then(|t| t.parse().ok())
+            })
+            .unwrap_or(0);
+        // Atom-block charges (column 37–39: 3 = +1, 5 = -1, ...).
+        for k in 0..n_atoms {
+            let code = self
+                .lines
+                .get(4 + k)
+                .and_then(|l| l.get(36..39))
+                .and_then(|f| f.trim().parse::<i64>().ok())
+                .unwrap_or(0);
+            out.charges[k] = match code {
+                1 => 3,
+                2 => 2,
+                3 => 1,
+                5 => -1,
+                6 => -2,
+                7 => -3,
+                _ => 0,
+            };
+        }
+        let first = 4 + n_atoms;
+        for k in 0..n_bonds {
+            let i = first + k;
+            let Some(line) = self.lines.get(i) else {
+                out.warnings.push(self.warning(
+                    self.lines.len().saturating_sub(1),
+                    format!("counts line says {n_bonds} bonds but the record ends after {k}"),
+                ));
+                break;
+            };
+            if line.starts_with("M  ") {
+                out.warnings.push(self.warning(
+                    i,
+                    format!("counts line says {n_bonds} bonds but the bond block ends after {k}"),
+                ));
+                break;
+            }
+            let fixed =
+                |r: std::ops::Range<usize>| line.get(r).and_then(|f| f.trim().parse::<i64>().ok());
+            let fields: Vec<i64> = match (fixed(0..3), fixed(3..6), fixed(6..9)) {
+                (Some(a), Some(b), Some(t)) => vec![a, b, t],
+                _ => line
+                    .split_whitespace()
+                    .take(3)
+                    .map_while(|f| f.parse::<i64>().ok())
+                    .collect(),
+            };
+            let &[a, b, t] = fields.as_slice() else {
+                out.warnings.push(self.warning(
+                    i,
+                    format!("malformed bond line {:?}; it is left out", line.trim()),
+                ));
+                continue;
+            };
+            let Some(order) = mdl_order(t) else {
+                out.warnings.push(self.warning(
+                    i,
+                    format!("bond type {t} is not an MDL bond type; read as unspecified"),
+                ));
+                if let Some((x, y)) = self.bond_atoms(i, a, b, n_atoms, out) {
+                    out.bonds.push((x, y, BondOrder::Unspecified));
+                }
+                continue;
+            };
+            if let Some((x, y)) = self.bond_atoms(i, a, b, n_atoms, out) {
+                out.bonds.push((x, y, order));
+            }
+        }
+        // `M  CHG` lines replace every atom-block charge.
+        let mut reset = false;
+        for (i, line) in self.lines.iter().enumerate().skip(first) {
+            let Some(rest) = line.strip_prefix("M  CHG") else {
+                continue;
+            };
+            if !reset {
+                out.charges.iter_mut().for_each(|c| *c = 0);
+                reset = true;
+            }
+            let nums: Vec<i64> = rest
+                .split_whitespace()
+                .map_while(|f| f.parse::<i64>().ok())
+                .collect();
+            for pair in nums.get(1..).unwrap_or(&[]).chunks(2) {
+                if let &[a, q] = pair {
+                    match usize::try_from(a).ok().filter(|&a| a >= 1 && a <= n_atoms) {
+                        Some(a) => out.charges[a - 1] = i8::try_from(q).unwrap_or(0),
+                        None => out.warnings.push(self.warning(
+                            i,
+                            format!(
+                                "M  CHG names atom {a}, but the atoms are numbered 1 to {n_atoms}"
+                            ),
+                        )),
+                    }
+                }
+            }
+        }
+    }
+
+    fn extras_v3000(&self, n_atoms: usize, out: &mut Extras) {
+        let Ok((logical, _)) = self.v30_logical() else {
+            return;
+        };
+        let upper = |s: &str| s.trim().to_ascii_uppercase();
+        let mut block = "";
+        let mut atom_k = 0;
+        for (i, text) in &logical {
+            let u = upper(text);
+            match u.as_str() {
+                "BEGIN ATOM" => {
+                    block = "atom";
+                    continue;
+                }
+                "BEGIN BOND" => {
+                    block = "bond";
+                    continue;
+                }
+                _ if u.starts_with("END ") => {
+                    block = "";
+                    continue;
+                }
+                _ => {}
+            }
+            let fields: Vec<&str> = text.split_whitespace().collect();
+            if block == "atom" {
+                if atom_k < n_atoms {
+                    for f in &fields {
+                        if let Some(q) = f.strip_prefix("CHG=").and_then(|q| q.parse::<i8>().ok()) {
+                            out.charges[atom_k] = q;
+                        }
+                    }
+                }
+                atom_k += 1;
+            } else if block == "bond" {
+                let nums: Vec<i64> = fields
+                    .iter()
+                    .take(4)
+                    .map_while(|f| f.parse::<i64>().ok())
+                    .collect();
+                let &[_, t, a, b] = nums.as_slice() else {
+                    out.warnings.push(self.warning(
+                        *i,
+                        format!("malformed bond line {:?}; it is left out", text.trim()),
+                    ));
+                    continue;
+                };
+                let order = mdl_order(t).unwrap_or(BondOrder::Unspecified);
+                if let Some((x, y)) = self.bond_atoms(*i, a, b, n_atoms, out) {
+                    out.bonds.push((x, y, order));
+                }
+            }
+        }
     }
 }
 
@@ -675,6 +968,33 @@ $$$$
         let s = &l.structure;
         assert_eq!(s.atoms.len(), 3);
         assert_eq!(s.atoms[1].name, "N2");
+        assert_eq!(s.file_chem.formal_charges, vec![0, 1, 0]);
+        assert_eq!(
+            s.bonds,
+            vec![
+                FileBond {
+                    a: 0,
+                    b: 1,
+                    order: BondOrder::Single
+                },
+                FileBond {
+                    a: 0,
+                    b: 2,
+                    order: BondOrder::Single
+                }
+            ]
+        );
+        assert!(s.file_chem.bonds_complete);
+        // Dropped, the hydrogen is kept apart with its carbon.
+        let d = parse_sdf(text, "t.sdf", &opts(Hydrogens::Drop, None)).unwrap();
+        let fc = &d.structure.file_chem;
+        assert_eq!(d.structure.atoms.len(), 2);
+        assert_eq!(fc.hydrogens.len(), 1);
+        assert_eq!(
+            (fc.hydrogens[0].parent, fc.hydrogens[0].before),
+            (Some(0), 2)
+        );
+        assert_eq!(d.structure.bonds.len(), 1);
         assert!(s.atoms[1].polar);
         assert_eq!(s.positions[1], DVec3::new(4.0, 5.0, 6.0));
         assert_eq!(s.atoms[0].residue, "v3");

@@ -22,7 +22,10 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt;
 use std::str::FromStr;
 
-use super::{LoadError, Molecule, Structure, is_water};
+use glam::DVec3;
+
+use super::{AtomInfo, LoadError, Molecule, Structure, is_water};
+use crate::chem::Bond;
 
 /// Hetero residue names `auto` never picks: ions and small inorganic groups,
 /// crystallisation and buffer additives, and modified amino acids that belong
@@ -411,14 +414,10 @@ pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Mole
     for &i in &chosen.atoms {
         in_drug[i] = true;
     }
-    let (mut rec_atoms, mut rec_pos) = (Vec::new(), Vec::new());
-    for (i, (a, p)) in s.atoms.iter().zip(&s.positions).enumerate() {
-        if !in_drug[i] && !is_water(&a.residue) {
-            rec_atoms.push(a.clone());
-            rec_pos.push(*p);
-        }
-    }
-    if rec_atoms.is_empty() {
+    let receptor_atoms: Vec<usize> = (0..s.atoms.len())
+        .filter(|&i| !in_drug[i] && !is_water(&s.atoms[i].residue))
+        .collect();
+    if receptor_atoms.is_empty() {
         return Err(LoadError::Ligand {
             path: s.name.clone(),
             reason: format!(
@@ -427,15 +426,50 @@ pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Mole
             ),
         });
     }
-    let drug_atoms = chosen.atoms.iter().map(|&i| s.atoms[i].clone()).collect();
-    let drug_pos: Vec<_> = chosen.atoms.iter().map(|&i| s.positions[i]).collect();
-    let receptor = Molecule::new(format!("{} receptor", s.name), rec_atoms, &rec_pos);
-    let drug = Molecule::new(
-        format!("{} {}", s.name, chosen.label()),
-        drug_atoms,
-        &drug_pos,
-    );
+    let receptor = molecule_from(s, &receptor_atoms, format!("{} receptor", s.name));
+    let drug = molecule_from(s, &chosen.atoms, format!("{} {}", s.name, chosen.label()));
     Ok((receptor, drug))
+}
+
+/// The molecule made of `s`'s atoms `indices` (ascending), with the file's
+/// hydrogens bonded to them, the bonds among them and their formal charges.
+pub fn molecule_from(s: &Structure, indices: &[usize], name: String) -> Molecule {
+    let atoms: Vec<AtomInfo> = indices.iter().map(|&i| s.atoms[i].clone()).collect();
+    let positions: Vec<DVec3> = indices.iter().map(|&i| s.positions[i]).collect();
+    let mut mol = Molecule::new(name, atoms, &positions);
+    let mut new_index = vec![u32::MAX; s.atoms.len()];
+    for (k, &i) in indices.iter().enumerate() {
+        new_index[i] = u32::try_from(k).unwrap_or(u32::MAX);
+    }
+    mol.file_bonds = s
+        .bonds
+        .iter()
+        .filter(|b| new_index[b.a] != u32::MAX && new_index[b.b] != u32::MAX)
+        .map(|b| Bond::new(new_index[b.a], new_index[b.b], b.order))
+        .collect();
+    let fc = &s.file_chem;
+    if fc.formal_charges.len() == s.atoms.len()
+        && indices.iter().any(|&i| fc.formal_charges[i] != 0)
+    {
+        mol.formal_charges = indices.iter().map(|&i| fc.formal_charges[i]).collect();
+    }
+    mol.bonds_complete = fc.bonds_complete && indices.len() == s.atoms.len();
+    mol.from_sdf = fc.from_sdf;
+    for h in &fc.hydrogens {
+        let Some(p) = h.parent.filter(|&p| new_index[p] != u32::MAX) else {
+            continue;
+        };
+        // Written before the first kept atom at or after its place.
+        let before = indices.partition_point(|&i| i < h.before);
+        mol.hydrogens.push(
+            new_index[p],
+            (h.position - mol.centre).as_vec3(),
+            h.atom.serial,
+            u32::try_from(before).unwrap_or(u32::MAX),
+            &h.atom.name,
+        );
+    }
+    mol
 }
 
 /// The whole structure as a receptor: every atom except waters, named
@@ -445,14 +479,10 @@ pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Mole
 /// [`LoadError::OnlyWaters`] when only waters remain, [`LoadError::NoAtoms`]
 /// when nothing does.
 pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
-    let (atoms, positions): (Vec<_>, Vec<_>) = s
-        .atoms
-        .iter()
-        .zip(&s.positions)
-        .filter(|(a, _)| !is_water(&a.residue))
-        .map(|(a, p)| (a.clone(), *p))
-        .unzip();
-    if atoms.is_empty() {
+    let indices: Vec<usize> = (0..s.atoms.len())
+        .filter(|&i| !is_water(&s.atoms[i].residue))
+        .collect();
+    if indices.is_empty() {
         return Err(if s.atoms.is_empty() {
             LoadError::NoAtoms {
                 path: s.name.clone(),
@@ -465,11 +495,7 @@ pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
             }
         });
     }
-    Ok(Molecule::new(
-        format!("{} receptor", s.name),
-        atoms,
-        &positions,
-    ))
+    Ok(molecule_from(s, &indices, format!("{} receptor", s.name)))
 }
 
 #[cfg(test)]
@@ -770,6 +796,7 @@ mod tests {
             positions: vec![glam::DVec3::ZERO; 58],
             hydrogen_only: Vec::new(),
             bonds: Vec::new(),
+            file_chem: Default::default(),
         };
         let err = receptor_only(&waters).unwrap_err();
         assert!(matches!(err, LoadError::OnlyWaters { waters: 58, .. }));

@@ -1,19 +1,24 @@
-//! Writing a molecule at a pose: PDB and SDF (V2000).
+//! Writing a molecule at a pose: PDB and SDF (V2000, or V3000 past 999
+//! atoms or bonds).
 //!
 //! Coordinates are the molecule's atoms placed by a pose — for a docked drug,
 //! its pose in the receptor file's frame, so the file lines up with the
-//! receptor. Files are written to a temporary name and renamed into place, so
-//! a failure never leaves half a file. The loader keeps no bonds, so the SDF's
-//! bonds are perceived from distances (single bonds between atoms closer than
-//! the sum of their covalent radii plus 0.45 Å); bond orders and dropped
-//! hydrogens are not restored.
+//! receptor. The file's hydrogens are written too, placed by the same pose,
+//! in the file's order, with their names. Atom names are written as read.
+//! Bonds are the molecule's real bonds: the file's own, with their orders,
+//! when it stated them all (an SDF), otherwise the perceived ones
+//! ([`crate::chem`]) with their Kekulé orders; each hydrogen is bonded to
+//! its heavy atom. A PDB file gets `CONECT` records for the bonds of hetero
+//! atoms. Files are written to a temporary name and renamed into place, so a
+//! failure never leaves half a file.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
+use glam::DVec3;
 use thiserror::Error;
 
-use super::Molecule;
+use super::{BondOrder, Molecule};
 use crate::motion::Pose;
 
 /// A file that could not be written.
@@ -49,25 +54,117 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
     })
 }
 
-/// PDB text for `mol` placed by `pose`.
+/// One atom to write: a heavy atom or a kept hydrogen.
+#[derive(Clone, Copy)]
+enum Entry {
+    Heavy(usize),
+    Hydrogen(usize),
+}
+
+/// Heavy atoms and hydrogens in the file's order.
+fn file_order(mol: &Molecule) -> Vec<Entry> {
+    let h = &mol.hydrogens;
+    let mut out = Vec::with_capacity(mol.len() + h.len());
+    let mut next_h = 0;
+    // Hydrogens are kept in file order, so their `before` never decreases
+    // in a file; sort anyway so an odd input still writes every atom once.
+    let mut hs: Vec<usize> = (0..h.len()).collect();
+    hs.sort_by_key(|&k| (h.before[k], k));
+    for i in 0..mol.len() {
+        while next_h < hs.len() && (h.before[hs[next_h]] as usize) <= i {
+            out.push(Entry::Hydrogen(hs[next_h]));
+            next_h += 1;
+        }
+        out.push(Entry::Heavy(i));
+    }
+    out.extend(hs[next_h..].iter().map(|&k| Entry::Hydrogen(k)));
+    out
+}
+
+/// The bonds to write, as positions in `order` with the order: the file's
+/// bonds when it stated them all, else the perceived ones; hydrogens bonded
+/// to their heavy atoms.
+fn written_bonds(mol: &Molecule, order: &[Entry]) -> Vec<(usize, usize, BondOrder)> {
+    let mut slot_heavy = vec![0usize; mol.len()];
+    let mut slot_h = vec![0usize; mol.hydrogens.len()];
+    for (k, e) in order.iter().enumerate() {
+        match *e {
+            Entry::Heavy(i) => slot_heavy[i] = k,
+            Entry::Hydrogen(h) => slot_h[h] = k,
+        }
+    }
+    let heavy: Vec<(u32, u32, BondOrder)> = if mol.bonds_complete {
+        mol.file_bonds.iter().map(|b| (b.a, b.b, b.order)).collect()
+    } else {
+        mol.chemistry()
+            .bonds
+            .iter()
+            .map(|b| (b.a, b.b, b.order))
+            .collect()
+    };
+    let mut out: Vec<(usize, usize, BondOrder)> = heavy
+        .into_iter()
+        .filter(|&(a, b, _)| (a as usize) < mol.len() && (b as usize) < mol.len())
+        .map(|(a, b, o)| (slot_heavy[a as usize], slot_heavy[b as usize], o))
+        .collect();
+    for (h, &p) in mol.hydrogens.parent.iter().enumerate() {
+        if (p as usize) < mol.len() {
+            out.push((slot_heavy[p as usize], slot_h[h], BondOrder::Single));
+        }
+    }
+    for b in &mut out {
+        if b.0 > b.1 {
+            std::mem::swap(&mut b.0, &mut b.1);
+        }
+    }
+    out.sort_unstable_by_key(|b| (b.0, b.1));
+    out
+}
+
+/// The placed position of an entry.
+fn placed(mol: &Molecule, pose: &Pose, e: Entry) -> DVec3 {
+    match e {
+        Entry::Heavy(i) => pose.transform_point(mol.local[i].as_dvec3()),
+        Entry::Hydrogen(h) => pose.transform_point(mol.hydrogens.local[h].as_dvec3()),
+    }
+}
+
+/// PDB text for `mol` placed by `pose`: its atoms and hydrogens in the
+/// file's order, then `CONECT` records for the bonds of hetero atoms.
 pub fn pdb_text(mol: &Molecule, pose: &Pose) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "REMARK   1 WRITTEN BY BUMP: {}", mol.name);
-    for (i, a) in mol.atoms.iter().enumerate() {
-        let p = pose.transform_point(mol.local[i].as_dvec3());
+    let order = file_order(mol);
+    let mut serials = Vec::with_capacity(order.len());
+    let mut hetero = Vec::with_capacity(order.len());
+    for &e in &order {
+        let (a, name, serial, element) = match e {
+            Entry::Heavy(i) => {
+                let a = &mol.atoms[i];
+                (a, a.name.as_str(), a.serial, a.element.as_str())
+            }
+            Entry::Hydrogen(h) => {
+                let p = mol.hydrogens.parent[h] as usize;
+                let Some(a) = mol.atoms.get(p) else { continue };
+                (a, mol.hydrogens.name(h), mol.hydrogens.serial[h], "H")
+            }
+        };
+        let p = placed(mol, pose, e);
         let record = if a.hetero { "HETATM" } else { "ATOM  " };
         // Names of one-letter elements start in column 14, as the format wants.
-        let name = if a.name.len() < 4 && a.element.len() == 1 {
-            format!(" {:<3}", a.name)
+        let name = if name.len() < 4 && element.len() == 1 {
+            format!(" {name:<3}")
         } else {
-            format!("{:<4}", a.name)
+            format!("{name:<4}")
         };
         let chain = a.chain.chars().next().unwrap_or(' ');
         let ins = a.insertion.chars().next().unwrap_or(' ');
+        let serial = serial.rem_euclid(100_000);
+        serials.push(serial);
+        hetero.push(a.hetero);
         let _ = writeln!(
             out,
-            "{record}{:>5} {name:.4} {:>3} {chain}{:>4}{ins}   {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}          {:>2}",
-            a.serial.rem_euclid(100_000),
+            "{record}{serial:>5} {name:.4} {:>3} {chain}{:>4}{ins}   {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}          {:>2}",
             a.residue.chars().take(3).collect::<String>(),
             a.seq.rem_euclid(10_000),
             p.x,
@@ -75,67 +172,128 @@ pub fn pdb_text(mol: &Molecule, pose: &Pose) -> String {
             p.z,
             1.0,
             0.0,
-            a.element.to_ascii_uppercase()
+            element.to_ascii_uppercase()
         );
+    }
+    // CONECT: each hetero atom's bonded partners, four to a record.
+    let bonds = written_bonds(mol, &order);
+    let mut partners: Vec<Vec<i64>> = vec![Vec::new(); order.len()];
+    for &(a, b, _) in &bonds {
+        if hetero.get(a).copied().unwrap_or(false) || hetero.get(b).copied().unwrap_or(false) {
+            partners[a].push(serials[b]);
+            partners[b].push(serials[a]);
+        }
+    }
+    for (k, list) in partners.iter().enumerate() {
+        for chunk in list.chunks(4) {
+            let _ = write!(out, "CONECT{:>5}", serials[k]);
+            for s in chunk {
+                let _ = write!(out, "{s:>5}");
+            }
+            out.push('\n');
+        }
     }
     out.push_str("END\n");
     out
 }
 
-/// Covalent radius for bond perception (Å).
-fn covalent(element: &str) -> f64 {
-    match element {
-        "H" | "D" => 0.31,
-        "C" => 0.76,
-        "N" => 0.71,
-        "O" => 0.66,
-        "F" => 0.57,
-        "P" => 1.07,
-        "S" => 1.05,
-        "Cl" => 1.02,
-        "Br" => 1.20,
-        "I" => 1.39,
-        "Se" => 1.20,
-        _ => 1.5,
+/// The MDL bond type of an order.
+fn mdl_type(order: BondOrder) -> u8 {
+    match order {
+        BondOrder::Single => 1,
+        BondOrder::Double => 2,
+        BondOrder::Triple => 3,
+        BondOrder::Aromatic => 4,
+        BondOrder::Unspecified => 8,
     }
 }
 
-/// SDF (V2000) text for `mol` placed by `pose`.
+/// SDF text for `mol` placed by `pose`: V2000, or V3000 when it has more
+/// than 999 atoms or bonds.
 pub fn sdf_text(mol: &Molecule, pose: &Pose) -> String {
-    let pos: Vec<_> = (0..mol.len())
-        .map(|i| pose.transform_point(mol.local[i].as_dvec3()))
-        .collect();
-    let mut bonds = Vec::new();
-    for i in 0..mol.len() {
-        for j in i + 1..mol.len() {
-            let limit = covalent(&mol.atoms[i].element) + covalent(&mol.atoms[j].element) + 0.45;
-            if (pos[i] - pos[j]).length() < limit {
-                bonds.push((i + 1, j + 1));
-            }
-        }
-    }
+    let order = file_order(mol);
+    let bonds = written_bonds(mol, &order);
+    let element = |e: Entry| match e {
+        Entry::Heavy(i) => mol.atoms[i].element.as_str(),
+        Entry::Hydrogen(_) => "H",
+    };
+    let charge = |e: Entry| match e {
+        Entry::Heavy(i) => mol.formal_charges.get(i).copied().unwrap_or(0),
+        Entry::Hydrogen(_) => 0,
+    };
     let mut out = String::new();
-    let _ = writeln!(out, "{}", mol.name);
+    let _ = writeln!(out, "{}", mol.name.lines().next().unwrap_or(""));
     let _ = writeln!(out, "  bump      3D");
-    let _ = writeln!(
-        out,
-        "docked pose written by bump (bonds perceived from distances)"
-    );
-    let _ = writeln!(
-        out,
-        "{:>3}{:>3}  0  0  0  0  0  0  0  0999 V2000",
-        mol.len().min(999),
-        bonds.len().min(999)
-    );
-    for (p, a) in pos.iter().zip(&mol.atoms) {
+    let _ = writeln!(out, "docked pose written by bump");
+    if order.len() > 999 || bonds.len() > 999 {
+        let _ = writeln!(out, "  0  0  0     0  0            999 V3000");
+        let _ = writeln!(out, "M  V30 BEGIN CTAB");
+        let _ = writeln!(out, "M  V30 COUNTS {} {} 0 0 0", order.len(), bonds.len());
+        let _ = writeln!(out, "M  V30 BEGIN ATOM");
+        for (k, &e) in order.iter().enumerate() {
+            let p = placed(mol, pose, e);
+            let q = charge(e);
+            let chg = if q != 0 {
+                format!(" CHG={q}")
+            } else {
+                String::new()
+            };
+            let _ = writeln!(
+                out,
+                "M  V30 {} {} {:.4} {:.4} {:.4} 0{chg}",
+                k + 1,
+                element(e),
+                p.x,
+                p.y,
+                p.z
+            );
+        }
+        let _ = writeln!(out, "M  V30 END ATOM");
+        let _ = writeln!(out, "M  V30 BEGIN BOND");
+        for (k, &(a, b, o)) in bonds.iter().enumerate() {
+            let _ = writeln!(out, "M  V30 {} {} {} {}", k + 1, mdl_type(o), a + 1, b + 1);
+        }
+        let _ = writeln!(out, "M  V30 END BOND");
+        let _ = writeln!(out, "M  V30 END CTAB");
+    } else {
         let _ = writeln!(
             out,
-            "{:>10.4}{:>10.4}{:>10.4} {:<3} 0  0  0  0  0  0  0  0  0  0  0  0",
-            p.x, p.y, p.z, a.element
+            "{:>3}{:>3}  0  0  0  0  0  0  0  0999 V2000",
+            order.len(),
+            bonds.len()
         );
-    }
-    for (i, j) in &bonds {
-        let _ = writeln!(out, "{i:>3}{j:>3}  1  0  0  0  0");
+        for &e in &order {
+            let p = placed(mol, pose, e);
+            let _ = writeln!(
+                out,
+                "{:>10.4}{:>10.4}{:>10.4} {:<3} 0  0  0  0  0  0  0  0  0  0  0  0",
+                p.x,
+                p.y,
+                p.z,
+                element(e)
+            );
+        }
+        for &(a, b, o) in &bonds {
+            let _ = writeln!(
+                out,
+                "{:>3}{:>3}{:>3}  0  0  0  0",
+                a + 1,
+                b + 1,
+                mdl_type(o)
+            );
+        }
+        let charged: Vec<(usize, i8)> = order
+            .iter()
+            .enumerate()
+            .filter_map(|(k, &e)| (charge(e) != 0).then_some((k + 1, charge(e))))
+            .collect();
+        for chunk in charged.chunks(8) {
+            let _ = write!(out, "M  CHG{:>3}", chunk.len());
+            for (k, q) in chunk {
+                let _ = write!(out, " {k:>3} {q:>3}");
+            }
+            out.push('\n');
+        }
     }
     out.push_str("M  END\n$$$$\n");
     out
@@ -154,17 +312,13 @@ pub fn write_pdb(mol: &Molecule, pose: &Pose, path: &Path) -> Result<(), WriteEr
 /// # Errors
 /// [`WriteError`] naming the file.
 pub fn write_sdf(mol: &Molecule, pose: &Pose, path: &Path) -> Result<(), WriteError> {
-    if mol.len() > 999 {
-        return Err(WriteError {
-            path: path.display().to_string(),
-            reason: format!("{} atoms: SDF V2000 holds at most 999", mol.len()),
-        });
-    }
     write_atomically(path, sdf_text(mol, pose).as_bytes())
 }
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
     use super::*;
     use crate::model::{LigandSpec, LoadOptions, load, split_complex, test_data_dir};
     use glam::{DQuat, DVec3};
@@ -198,12 +352,142 @@ mod tests {
         let pdb_back = load(&pdb, &LoadOptions::default()).expect("pdb");
         assert_eq!(pdb_back.structure.atoms[0].name, drug.atoms[0].name);
         assert_eq!(pdb_back.structure.atoms[0].residue, "TOP");
-        // Trimethoprim: 21 heavy atoms, 22 bonds (two rings, a CH2 bridge,
-        // three methoxy groups, two amines).
+        // Trimethoprim: 21 heavy atoms, 22 bonds between them (two rings, a
+        // CH2 bridge, three methoxy groups, two amines), and 18 hydrogens.
         let text = std::fs::read_to_string(&sdf).expect("sdf text");
         let counts = text.lines().nth(3).expect("counts line");
-        assert_eq!(counts[3..6].trim(), "22", "{counts}");
+        assert_eq!(counts[0..3].trim(), "39", "{counts}");
+        assert_eq!(counts[3..6].trim(), "40", "{counts}");
         let _ = std::fs::remove_dir_all(&tmp);
+    }
+
+    /// Reads `text` as SDF keeping hydrogens.
+    fn sdf_back(text: &str) -> crate::model::Structure {
+        let keep = LoadOptions {
+            hydrogens: crate::model::Hydrogens::Keep,
+            ..LoadOptions::default()
+        };
+        crate::model::sdf::parse_sdf(text, "back.sdf", &keep)
+            .expect("read back")
+            .structure
+    }
+
+    #[test]
+    fn shared_sdfs_round_trip_at_the_identity_pose() {
+        let Some(dir) = test_data_dir() else { return };
+        let keep = LoadOptions {
+            hydrogens: crate::model::Hydrogens::Keep,
+            ..LoadOptions::default()
+        };
+        for file in [
+            "trimethoprim_top_6xg5pose.sdf",
+            "methotrexate_mtx_ideal.sdf",
+            "benzamidine_3ptb.sdf",
+            "1s3v_ligand_tqd.sdf",
+        ] {
+            let original = load(&dir.join(file), &keep).expect(file).structure;
+            let loaded = load(&dir.join(file), &LoadOptions::default()).expect(file);
+            let mol = crate::model::receptor_only(&loaded.structure).expect(file);
+            let pose = Pose::new(DQuat::IDENTITY, mol.centre);
+            let back = sdf_back(&sdf_text(&mol, &pose));
+            assert_eq!(back.atoms.len(), original.atoms.len(), "{file}");
+            for (i, (a, b)) in original.atoms.iter().zip(&back.atoms).enumerate() {
+                assert_eq!(
+                    (&a.name, &a.element),
+                    (&b.name, &b.element),
+                    "{file} atom {i}"
+                );
+                let d = (original.positions[i] - back.positions[i])
+                    .abs()
+                    .max_element();
+                assert!(d <= 1e-4, "{file} atom {i}: {d}");
+            }
+            assert_eq!(back.bonds, original.bonds, "{file}: bonds and orders");
+            assert_eq!(
+                back.file_chem.formal_charges, original.file_chem.formal_charges,
+                "{file}: charges"
+            );
+        }
+    }
+
+    #[test]
+    fn the_6xg5_ligand_round_trips_through_pdb() {
+        let Some(dir) = test_data_dir() else { return };
+        let keep = LoadOptions {
+            hydrogens: crate::model::Hydrogens::Keep,
+            ..LoadOptions::default()
+        };
+        let spec = LigandSpec::parse("TOP").expect("spec");
+        let path = dir.join("6xg5_tmp_prepared.pdb");
+        let full = load(&path, &keep).expect("load").structure;
+        let (_, with_h) = split_complex(&full, &spec).expect("split");
+        let (_, drug) = split_complex(
+            &load(&path, &LoadOptions::default())
+                .expect("load")
+                .structure,
+            &spec,
+        )
+        .expect("split");
+        assert_eq!(drug.hydrogens.len(), 18);
+        let pose = Pose::new(DQuat::IDENTITY, drug.centre);
+        let tmp = std::env::temp_dir().join(format!("bump-top-{}.pdb", std::process::id()));
+        write_pdb(&drug, &pose, &tmp).expect("write");
+        let text = std::fs::read_to_string(&tmp).expect("text");
+        let back = load(&tmp, &keep).expect("read back").structure;
+        let _ = std::fs::remove_file(&tmp);
+        assert_eq!(back.atoms.len(), with_h.len());
+        for (i, (a, b)) in with_h.atoms.iter().zip(&back.atoms).enumerate() {
+            assert_eq!(
+                (&a.name, &a.element, a.serial),
+                (&b.name, &b.element, b.serial),
+                "atom {i}"
+            );
+            let d = (with_h.file_position(i) - back.positions[i])
+                .abs()
+                .max_element();
+            assert!(d <= 1e-3, "atom {i}: {d}");
+        }
+        // CONECT records: every heavy bond and every hydrogen's bond, both ways.
+        let conect = text.lines().filter(|l| l.starts_with("CONECT")).count();
+        assert!(conect >= 39, "{conect} CONECT records");
+        // The same bonds and orders are perceived from the written file.
+        let again = crate::model::receptor_only(&load_text_as_pdb(&text)).expect("molecule");
+        assert_eq!(again.chemistry().bonds, drug.chemistry().bonds);
+    }
+
+    /// Loads PDB text through a temporary file.
+    fn load_text_as_pdb(text: &str) -> crate::model::Structure {
+        let tmp = std::env::temp_dir().join(format!("bump-again-{}.pdb", std::process::id()));
+        std::fs::write(&tmp, text).expect("write");
+        let s = load(&tmp, &LoadOptions::default()).expect("load").structure;
+        let _ = std::fs::remove_file(&tmp);
+        s
+    }
+
+    #[test]
+    fn large_molecules_are_written_as_v3000() {
+        let Some(dir) = test_data_dir() else { return };
+        let s = load(&dir.join("1ubq.pdb"), &LoadOptions::default())
+            .expect("1ubq")
+            .structure;
+        let rec = crate::model::receptor_only(&s).expect("receptor");
+        // Ubiquitin's 602 atoms fit V2000; DHFR's 2577 do not.
+        let pose = Pose::new(DQuat::IDENTITY, rec.centre);
+        let text = sdf_text(&rec, &pose);
+        assert!(text.lines().nth(3).is_some_and(|l| l.ends_with("V2000")));
+        let s = load(&dir.join("4dfr.pdb"), &LoadOptions::default())
+            .expect("4dfr")
+            .structure;
+        let rec = crate::model::receptor_only(&s).expect("receptor");
+        let pose = Pose::new(DQuat::IDENTITY, rec.centre);
+        let text = sdf_text(&rec, &pose);
+        assert!(text.lines().nth(3).is_some_and(|l| l.ends_with("V3000")));
+        let back = sdf_back(&text);
+        assert_eq!(back.atoms.len(), rec.len());
+        assert_eq!(back.bonds.len(), rec.chemistry().bonds.len());
+        for (b, c) in back.bonds.iter().zip(&rec.chemistry().bonds) {
+            assert_eq!((b.a, b.b, b.order), (c.a as usize, c.b as usize, c.order));
+        }
     }
 
     #[test]

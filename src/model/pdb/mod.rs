@@ -429,6 +429,7 @@ fn first_model(
         positions,
         hydrogen_only,
         bonds: Vec::new(),
+        file_chem: Default::default(),
     })
 }
 

@@ -1,0 +1,376 @@
+//! Which atoms of a molecule are bonded, and the orders the file or a
+//! residue template states.
+//!
+//! Sources, in order of trust:
+//! 1. A file that states every bond with its order (an SDF bond block): its
+//!    bonds and nothing else.
+//! 2. Standard residues ([`super::templates`]): the template's bonds between
+//!    the atoms present, with orders; the peptide C–N and phosphodiester
+//!    O3'–P links to the next residue of the same chain when the two atoms
+//!    are at most [`MAX_LINK`] apart (so chain breaks stay broken);
+//!    disulfides between cysteine SG atoms at most [`MAX_DISULFIDE`] apart.
+//! 3. Bonds the file states without orders (PDB `CONECT`, mmCIF
+//!    `struct_conn`), except to metals.
+//! 4. Distances, for every atom of a residue no template covers (ligands,
+//!    cofactors, modified residues) and the template residues' atoms the
+//!    template does not name: two atoms are bonded when they are between
+//!    [`MIN_BOND_LENGTH`] and the sum of their covalent radii plus
+//!    [`BOND_TOLERANCE`] apart. A spatial grid keeps this linear in the
+//!    atom count. Metals get no perceived bonds (coordination is not a
+//!    covalent bond, and it must not take a hydrogen's place in valence).
+//!    An atom left with more perceived bonds than its element allows loses
+//!    the longest.
+
+use glam::Vec3;
+
+use super::elements::{BOND_TOLERANCE, MIN_BOND_LENGTH, covalent_radius, is_metal};
+use super::grid::NeighbourGrid;
+use super::templates::{PolymerKind, Template, canonical_name, template};
+use super::{Bond, Warnings};
+use crate::model::{AtomInfo, BondOrder, Molecule};
+
+/// Longest peptide or phosphodiester link accepted between consecutive
+/// residues (Å); a real one is 1.33 or 1.61 Å.
+pub const MAX_LINK: f32 = 2.0;
+
+/// Longest disulfide accepted (Å); a real one is 2.05 Å.
+pub const MAX_DISULFIDE: f32 = 2.5;
+
+/// The bonds of a molecule with what is known of their orders.
+#[derive(Debug, Clone)]
+pub(crate) struct Connection {
+    /// Bonds, each pair once with `a < b`, sorted. Orders are `Unspecified`
+    /// where neither the file nor a template states them.
+    pub bonds: Vec<Bond>,
+    /// Per atom: its bonds' orders are stated (file or template), so
+    /// geometry need not guess them.
+    pub ordered: Vec<bool>,
+    /// Per atom: in an aromatic ring of its residue template.
+    pub template_aromatic: Vec<bool>,
+    /// Per atom: the formal charge (file or template).
+    pub charges: Vec<i8>,
+    /// Per atom: its residue (index into `templates`).
+    pub residue_of: Vec<u32>,
+    /// Per residue: the template that covers it.
+    pub templates: Vec<Option<&'static Template>>,
+}
+
+/// Residues as ranges of consecutive atoms with the same chain, number,
+/// insertion code and name.
+pub(crate) fn residue_ranges(atoms: &[AtomInfo]) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    let mut start = 0usize;
+    let same = |a: &AtomInfo, b: &AtomInfo| {
+        a.seq == b.seq && a.chain == b.chain && a.insertion == b.insertion && a.residue == b.residue
+    };
+    for i in 1..=atoms.len() {
+        if i == atoms.len() || !same(&atoms[i], &atoms[start]) {
+            out.push((idx(start), idx(i)));
+            start = i;
+        }
+    }
+    out
+}
+
+/// An index as u32 (molecules hold far fewer than 2^32 atoms).
+pub(crate) fn idx(i: usize) -> u32 {
+    u32::try_from(i).unwrap_or(u32::MAX)
+}
+
+/// For a histidine with hydrogens in the file, the tautomer they show.
+fn histidine_from_hydrogens(
+    t: &'static Template,
+    names: &[std::borrow::Cow<'_, str>],
+    s: u32,
+    explicit_h: &[Option<u8>],
+) -> &'static Template {
+    if !t.has_atom("NE2") || !t.aromatic.contains(&"ND1") {
+        return t;
+    }
+    let h_on = |name: &str| {
+        names
+            .iter()
+            .position(|nm| nm == name)
+            .and_then(|k| explicit_h[s as usize + k])
+            .is_some_and(|h| h > 0)
+    };
+    match (h_on("ND1"), h_on("NE2")) {
+        (true, true) => template("HIP").unwrap_or(t),
+        (false, true) => template("HIE").unwrap_or(t),
+        (true, false) => template("HID").unwrap_or(t),
+        (false, false) => t,
+    }
+}
+
+/// Connects `mol`'s heavy atoms. `explicit_h[i]` is the number of the
+/// file's hydrogens on atom `i` when its residue has any.
+pub(crate) fn connect(
+    mol: &Molecule,
+    explicit_h: &[Option<u8>],
+    warn: &mut Warnings,
+) -> Connection {
+    let n = mol.len();
+    let atoms = &mol.atoms;
+    let residues = residue_ranges(atoms);
+    let mut residue_of = vec![0u32; n];
+    for (r, &(s, e)) in residues.iter().enumerate() {
+        for slot in &mut residue_of[s as usize..e as usize] {
+            *slot = idx(r);
+        }
+    }
+    let mut charges = if mol.formal_charges.len() == n {
+        mol.formal_charges.clone()
+    } else {
+        vec![0; n]
+    };
+    let mut ordered = vec![false; n];
+    let mut template_aromatic = vec![false; n];
+    let mut templates: Vec<Option<&'static Template>> = vec![None; residues.len()];
+    let mut bonds: Vec<Bond> = Vec::new();
+
+    if mol.bonds_complete {
+        bonds.extend(mol.file_bonds.iter().copied());
+        ordered.iter_mut().for_each(|o| *o = true);
+        return finish(
+            bonds,
+            ordered,
+            template_aromatic,
+            charges,
+            residue_of,
+            templates,
+        );
+    }
+
+    // Template residues.
+    let mut perceive = vec![true; n];
+    for (r, &(s, e)) in residues.iter().enumerate() {
+        let Some(t) = template(&atoms[s as usize].residue) else {
+            continue;
+        };
+        let t: &'static Template = t;
+        // Not for a hetero group that merely shares a name (a free "A"
+        // ligand would be odd, but a residue with no backbone is not a
+        // polymer residue): the template must name most of its atoms.
+        let names: Vec<std::borrow::Cow<'_, str>> = (s..e)
+            .map(|i| canonical_name(&atoms[i as usize].name))
+            .collect();
+        let named = names.iter().filter(|nm| t.has_atom(nm)).count();
+        if named * 2 < names.len() || named == 0 {
+            continue;
+        }
+        let t = histidine_from_hydrogens(t, &names, s, explicit_h);
+        templates[r] = Some(t);
+        for (k, nm) in names.iter().enumerate() {
+            let i = s as usize + k;
+            if t.has_atom(nm) {
+                perceive[i] = false;
+                ordered[i] = true;
+                template_aromatic[i] = t.aromatic.contains(&nm.as_ref());
+                if charges[i] == 0 {
+                    charges[i] = t.charge(nm);
+                }
+            }
+        }
+        for (x, y, order) in t.bonds {
+            let find = |name: &str| names.iter().position(|nm| nm == name);
+            if let (Some(p), Some(q)) = (find(x), find(y)) {
+                bonds.push(Bond::new(s + idx(p), s + idx(q), order_of(*order)));
+            }
+        }
+    }
+
+    // Links between consecutive template residues of a chain.
+    for r in 1..residues.len() {
+        let (Some(prev), Some(next)) = (templates[r - 1], templates[r]) else {
+            continue;
+        };
+        let (ps, pe) = residues[r - 1];
+        let (ns, ne) = residues[r];
+        if atoms[ps as usize].chain != atoms[ns as usize].chain || prev.kind != next.kind {
+            continue;
+        }
+        let (from, to) = match prev.kind {
+            PolymerKind::Peptide => ("C", "N"),
+            PolymerKind::Nucleic => ("O3'", "P"),
+        };
+        let find = |s: u32, e: u32, name: &str| {
+            (s..e).find(|&i| canonical_name(&atoms[i as usize].name) == name)
+        };
+        if let (Some(a), Some(b)) = (find(ps, pe, from), find(ns, ne, to))
+            && mol.local[a as usize].distance(mol.local[b as usize]) <= MAX_LINK
+        {
+            bonds.push(Bond::new(a, b, BondOrder::Single));
+        }
+    }
+
+    // Disulfides.
+    let sulfurs: Vec<u32> = (0..n)
+        .filter(|&i| {
+            !perceive[i] && atoms[i].element == "S" && canonical_name(&atoms[i].name) == "SG"
+        })
+        .map(idx)
+        .collect();
+    if sulfurs.len() > 1 {
+        let pts: Vec<Vec3> = sulfurs.iter().map(|&i| mol.local[i as usize]).collect();
+        let grid = NeighbourGrid::new(&pts, MAX_DISULFIDE);
+        for (k, &i) in sulfurs.iter().enumerate() {
+            grid.for_each_near(pts[k], |j| {
+                let j = j as usize;
+                if j > k && pts[k].distance(pts[j]) <= MAX_DISULFIDE {
+                    bonds.push(Bond::new(i, sulfurs[j], BondOrder::Single));
+                }
+            });
+        }
+    }
+
+    // Bonds the file states (CONECT, struct_conn), except to metals.
+    for b in &mol.file_bonds {
+        let (a, c) = (b.a as usize, b.b as usize);
+        if a < n && c < n && !is_metal(&atoms[a].element) && !is_metal(&atoms[c].element) {
+            bonds.push(*b);
+        }
+    }
+
+    // Distances, for atoms no template covers.
+    perceive_by_distance(mol, &perceive, &mut bonds, warn);
+
+    finish(
+        bonds,
+        ordered,
+        template_aromatic,
+        charges,
+        residue_of,
+        templates,
+    )
+}
+
+/// Sorts and deduplicates `bonds` (a pair stated twice keeps its stated
+/// order over an unspecified one) and builds the [`Connection`].
+fn finish(
+    mut bonds: Vec<Bond>,
+    ordered: Vec<bool>,
+    template_aromatic: Vec<bool>,
+    charges: Vec<i8>,
+    residue_of: Vec<u32>,
+    templates: Vec<Option<&'static Template>>,
+) -> Connection {
+    bonds.retain(|b| b.a != b.b);
+    bonds.sort_unstable_by_key(|b| (b.a, b.b, b.order == BondOrder::Unspecified));
+    bonds.dedup_by_key(|b| (b.a, b.b));
+    Connection {
+        bonds,
+        ordered,
+        template_aromatic,
+        charges,
+        residue_of,
+        templates,
+    }
+}
+
+/// The bond order of a template's digit.
+fn order_of(order: u8) -> BondOrder {
+    match order {
+        2 => BondOrder::Double,
+        3 => BondOrder::Triple,
+        _ => BondOrder::Single,
+    }
+}
+
+/// Most bonds an element takes (perceived bonds beyond it are dropped,
+/// longest first).
+fn max_bonds(element: &str) -> usize {
+    match element {
+        "H" | "D" | "F" | "Cl" | "Br" | "I" | "At" => 1,
+        "O" => 2,
+        "B" | "N" => 4,
+        "C" | "Si" => 4,
+        "P" | "As" => 5,
+        _ => 6,
+    }
+}
+
+/// Adds the bonds perceived from distances for every atom with
+/// `perceive[i]` set, to any other atom of the molecule (a template atom
+/// only across residues or to an atom its template does not name).
+fn perceive_by_distance(
+    mol: &Molecule,
+    perceive: &[bool],
+    bonds: &mut Vec<Bond>,
+    warn: &mut Warnings,
+) {
+    let atoms = &mol.atoms;
+    if !perceive.iter().any(|&p| p) {
+        return;
+    }
+    let radius: Vec<Option<f32>> = atoms
+        .iter()
+        .map(|a| {
+            if is_metal(&a.element) {
+                None
+            } else {
+                covalent_radius(&a.element).map(|r| r as f32)
+            }
+        })
+        .collect();
+    let max_r = radius.iter().flatten().fold(0.0f32, |m, &r| m.max(r));
+    let cutoff = 2.0 * max_r + BOND_TOLERANCE as f32;
+    // Only the atoms that can bond go into the grid.
+    let members: Vec<u32> = (0..atoms.len())
+        .filter(|&i| radius[i].is_some())
+        .map(idx)
+        .collect();
+    let pts: Vec<Vec3> = members.iter().map(|&i| mol.local[i as usize]).collect();
+    let grid = NeighbourGrid::new(&pts, cutoff);
+    let mut found: Vec<(u32, u32, f32)> = Vec::new();
+    for (k, &i) in members.iter().enumerate() {
+        if !perceive[i as usize] {
+            continue;
+        }
+        let ri = radius[i as usize].unwrap_or(0.0);
+        grid.for_each_near(pts[k], |m| {
+            let j = members[m as usize];
+            // Each perceived pair once: from its lower index, or from the
+            // perceived side when only one side is.
+            if j == i || (perceive[j as usize] && j < i) {
+                return;
+            }
+            let rj = radius[j as usize].unwrap_or(0.0);
+            let d = pts[k].distance(pts[m as usize]);
+            if d >= MIN_BOND_LENGTH as f32 && d <= ri + rj + BOND_TOLERANCE as f32 {
+                found.push((i.min(j), i.max(j), d));
+            }
+        });
+    }
+    if found.is_empty() {
+        return;
+    }
+    // Cap valences: drop an over-bonded atom's longest perceived bonds.
+    let mut count = vec![0usize; atoms.len()];
+    for b in bonds.iter() {
+        count[b.a as usize] += 1;
+        count[b.b as usize] += 1;
+    }
+    found.sort_by(|x, y| x.2.total_cmp(&y.2).then((x.0, x.1).cmp(&(y.0, y.1))));
+    for (a, b, d) in found {
+        let (ea, eb) = (&atoms[a as usize].element, &atoms[b as usize].element);
+        if count[a as usize] >= max_bonds(ea) || count[b as usize] >= max_bonds(eb) {
+            let (who, el) = if count[a as usize] >= max_bonds(ea) {
+                (a, ea)
+            } else {
+                (b, eb)
+            };
+            warn.atom(
+                mol,
+                who as usize,
+                format!(
+                    "a {el} atom with more close neighbours than it can bond; \
+                     the {d:.2} Å contact is not read as a bond"
+                ),
+            );
+            continue;
+        }
+        count[a as usize] += 1;
+        count[b as usize] += 1;
+        bonds.push(Bond::new(a, b, BondOrder::Unspecified));
+    }
+}

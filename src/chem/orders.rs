@@ -1,0 +1,506 @@
+//! Bond orders for bonds the file does not give them to: a Kekulé structure
+//! from the atoms' hydrogen counts when the file has hydrogens, otherwise
+//! from geometry; and a Kekulé structure for bonds a file marks aromatic.
+//!
+//! Each atom gets a number of π bonds it needs, and whether it must have
+//! them (a planar carbon must) or may (a terminal oxygen on a planar
+//! carbon, a five-ring nitrogen that may carry a hydrogen instead):
+//! - with hydrogens: the atom's usual valence less its bonds and hydrogens;
+//! - from geometry (after the approach of Baber & Hodgkin, J. Chem. Inf.
+//!   Comput. Sci. 32 (1992) 401, and Open Babel's `PerceiveBondOrders`):
+//!   an atom whose bond angles average over 155° is linear (sp, two π
+//!   bonds), over 115° (117° with two neighbours) trigonal (sp2, one), and
+//!   an atom of a flat five-membered ring (all atoms within 0.15 Å of a
+//!   plane, where angles cannot tell) trigonal; a terminal atom may take a
+//!   double bond when its bond is short enough (C–O under 1.40 Å, C–N under
+//!   1.36, C–C under 1.38, C–S under 1.75). A trigonal nitrogen with three
+//!   neighbours (amide, aniline, pyrrole) needs none, unless it sits in a
+//!   flat six-ring (pyridinium); sulfur and phosphorus take their double
+//!   bonds to terminal oxygens (sulfone, phosphate). Among candidates, the
+//!   bond shortest relative to the sum of covalent radii goes first.
+//!
+//! An atom counts as trigonal only when one of its bonds is shorter than
+//! 0.96 of the sum of the covalent radii (some double-bond character).
+//! Triple bonds join pairs of linear atoms; double bonds are a matching:
+//! first among the atoms that must have one, then from those still without
+//! to any candidate, each by augmenting paths (Kuhn's method) that try the
+//! shortest bond (relative to a single bond) first, so the structure
+//! follows the geometry.
+//! An atom that must have a π bond and gets none is reported by name.
+
+use glam::Vec3;
+
+use super::connect::Connection;
+use super::elements::charged_valences;
+use super::graph::Adjacency;
+use super::rings::{ring_deviation, smallest_rings};
+use super::{Bond, Warnings};
+use crate::model::{BondOrder, Molecule};
+
+/// Average bond angle (degrees) above which an atom is linear.
+const LINEAR: f32 = 155.0;
+/// Average bond angle (degrees) above which an atom is trigonal.
+const TRIGONAL: f32 = 115.0;
+/// Largest ratio of a bond's length to the sum of its atoms' covalent
+/// radii for a bond with some double-bond character (single bonds are near
+/// 1.0, aromatic 0.91, double 0.88).
+const SHORT_BOND: f32 = 0.96;
+/// Largest out-of-plane distance (Å) of a flat ring's atoms.
+const FLAT_RING: f32 = 0.15;
+
+/// What an atom needs in π bonds.
+#[derive(Debug, Clone, Copy, Default)]
+struct Need {
+    /// π bonds wanted.
+    count: u8,
+    /// True when the atom must get them.
+    required: bool,
+}
+
+/// Fills in the orders of `conn`'s unspecified and aromatic bonds.
+/// `explicit_h[i]` is the number of hydrogens atom `i` has in the file,
+/// when its residue has hydrogens.
+pub(crate) fn assign_orders(
+    mol: &Molecule,
+    conn: &mut Connection,
+    adj: &Adjacency,
+    in_ring: &[bool],
+    explicit_h: &[Option<u8>],
+    warn: &mut Warnings,
+) {
+    let n = mol.len();
+    let bonds = &conn.bonds;
+    // Atoms whose bonds need orders: an unspecified or aromatic bond.
+    let mut open = vec![false; n];
+    let mut any = false;
+    for b in bonds {
+        if matches!(b.order, BondOrder::Unspecified | BondOrder::Aromatic) {
+            open[b.a as usize] = true;
+            open[b.b as usize] = true;
+            any = true;
+        }
+    }
+    if !any {
+        return;
+    }
+    let pos = &mol.local;
+    let elem = |i: usize| mol.atoms[i].element.as_str();
+    // Flat rings among the open atoms.
+    let rings = smallest_rings(adj, bonds, in_ring, &|i| open[i] && explicit_h[i].is_none());
+    let mut in_flat_ring = vec![0u8; n]; // 5 for an atom of a flat five-ring
+    for ring in &rings {
+        if ring.len() == 5 && ring_deviation(ring, pos) <= FLAT_RING {
+            for &i in ring {
+                let s = &mut in_flat_ring[i as usize];
+                if *s == 0 || (ring.len() as u8) < *s {
+                    *s = ring.len() as u8;
+                }
+            }
+        }
+    }
+
+    let mut in_six = vec![false; n];
+    for ring in rings.iter().filter(|r| r.len() == 6) {
+        for &i in ring {
+            in_six[i as usize] = true;
+        }
+    }
+    // Six-rings most of whose atoms look trigonal are trigonal throughout:
+    // low-resolution structures bend single angles out of range.
+    let mut ring_trigonal = vec![false; n];
+    for ring in rings.iter().filter(|r| r.len() == 6) {
+        let looks = ring
+            .iter()
+            .filter(|&&i| {
+                let row = adj.of(i as usize);
+                row.len() <= 3 && mean_angle(i as usize, row, pos) > TRIGONAL
+            })
+            .count();
+        if looks >= 4 && ring_deviation(ring, pos) <= 2.0 * FLAT_RING {
+            for &i in ring {
+                ring_trigonal[i as usize] = true;
+            }
+        }
+    }
+    let mut need = vec![Need::default(); n];
+    for i in 0..n {
+        if !open[i] {
+            continue;
+        }
+        let row = adj.of(i);
+        let stated: u32 = row
+            .iter()
+            .map(|&(_, k)| match bonds[k as usize].order {
+                BondOrder::Double => 1,
+                BondOrder::Triple => 2,
+                _ => 0,
+            })
+            .sum();
+        let has_aromatic = row
+            .iter()
+            .any(|&(_, k)| bonds[k as usize].order == BondOrder::Aromatic);
+        let deg = row.len() as u32;
+        let e = elem(i);
+        need[i] = match explicit_h[i] {
+            Some(h) => from_valence(
+                e,
+                conn.charges[i],
+                deg,
+                u32::from(h),
+                stated,
+                row,
+                bonds,
+                mol,
+            ),
+            None if has_aromatic => aromatic_need(e, deg, stated),
+            None => {
+                let flat = if ring_trigonal[i] { 6 } else { in_flat_ring[i] };
+                from_geometry(i, e, row, pos, bonds, adj, mol, flat, in_six[i], stated)
+            }
+        };
+    }
+
+    // Bonds that may take a higher order: unspecified or aromatic.
+    let mut order: Vec<BondOrder> = bonds.iter().map(|b| b.order).collect();
+    let free = |o: BondOrder| matches!(o, BondOrder::Unspecified | BondOrder::Aromatic);
+
+    // Hypervalent S and P: double bonds to their shortest terminal O/S first.
+    for i in 0..n {
+        if !open[i] || !matches!(elem(i), "S" | "P") || need[i].count == 0 {
+            continue;
+        }
+        let mut terminal: Vec<(f32, u32, u32)> = adj
+            .of(i)
+            .iter()
+            .filter(|&&(j, k)| {
+                free(order[k as usize])
+                    && matches!(elem(j as usize), "O" | "S" | "N")
+                    && adj.degree(j as usize) == 1
+                    && need[j as usize].count > 0
+            })
+            .map(|&(j, k)| (pos[i].distance(pos[j as usize]), j, k))
+            .collect();
+        terminal.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        for (_, j, k) in terminal {
+            if need[i].count == 0 {
+                break;
+            }
+            order[k as usize] = BondOrder::Double;
+            need[i].count -= 1;
+            need[j as usize].count = 0;
+        }
+    }
+
+    // Triple bonds between pairs of atoms that need two.
+    for (k, b) in bonds.iter().enumerate() {
+        let (a, c) = (b.a as usize, b.b as usize);
+        if free(order[k]) && need[a].count >= 2 && need[c].count >= 2 {
+            order[k] = BondOrder::Triple;
+            need[a].count -= 2;
+            need[c].count -= 2;
+        }
+    }
+    // An atom still wanting two (a cumulene centre, a lone nitrile carbon)
+    // takes what the matching gives it, one at a time.
+    for nd in &mut need {
+        nd.count = nd.count.min(1);
+    }
+
+    // Double bonds: a matching over the bonds between atoms that want one.
+    let mut mate: Vec<Option<(u32, u32)>> = vec![None; n]; // (partner, bond)
+    let candidates = |i: usize, order: &[BondOrder], need: &[Need]| -> Vec<(u32, u32)> {
+        let mut c: Vec<(f32, u32, u32)> = adj
+            .of(i)
+            .iter()
+            .filter(|&&(j, k)| free(order[k as usize]) && need[j as usize].count > 0)
+            .map(|&(j, k)| {
+                // Shortest relative to a single bond first.
+                let single = super::elements::covalent_radius(elem(i)).unwrap_or(0.76)
+                    + super::elements::covalent_radius(elem(j as usize)).unwrap_or(0.76);
+                let mut lj = pos[i].distance(pos[j as usize]) / single as f32;
+                // A carbonyl beats an imine where the geometry cannot
+                // tell them apart (an amide, a carboxylic acid).
+                if adj.degree(j as usize) == 1 && elem(j as usize) == "O" {
+                    lj -= 0.04;
+                }
+                (lj, j, k)
+            })
+            .collect();
+        c.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        c.into_iter().map(|(_, j, k)| (j, k)).collect()
+    };
+    let adjacency: Vec<Vec<(u32, u32)>> = (0..n)
+        .map(|i| {
+            if need[i].count > 0 {
+                candidates(i, &order, &need)
+            } else {
+                Vec::new()
+            }
+        })
+        .collect();
+    let constrained = |i: usize| (adjacency[i].len(), i);
+    // Phase 1: atoms that must have a double bond, among themselves.
+    let mut required: Vec<usize> = (0..n)
+        .filter(|&i| need[i].count > 0 && need[i].required)
+        .collect();
+    required.sort_by_key(|&i| constrained(i));
+    let required_only: Vec<Vec<(u32, u32)>> = (0..n)
+        .map(|i| {
+            adjacency[i]
+                .iter()
+                .copied()
+                .filter(|&(j, _)| need[i].required && need[j as usize].required)
+                .collect()
+        })
+        .collect();
+    for &i in &required {
+        if mate[i].is_none() {
+            let mut visited = vec![false; n];
+            augment(i, &required_only, &mut mate, &mut visited, &need);
+        }
+    }
+    // Phase 2: the rest of them, with any partner (a terminal O, a
+    // five-ring N), re-routing earlier pairs where that helps.
+    for &i in &required {
+        if mate[i].is_none() {
+            let mut visited = vec![false; n];
+            augment(i, &adjacency, &mut mate, &mut visited, &need);
+        }
+    }
+    for i in 0..n {
+        if let Some((_, k)) = mate[i] {
+            order[k as usize] = BondOrder::Double;
+        } else if need[i].required && need[i].count > 0 {
+            warn.atom(
+                mol,
+                i,
+                "no Kekulé structure gives this atom the double bond its geometry or valence \
+                 asks for; its bonds are read as single"
+                    .to_string(),
+            );
+        }
+    }
+    for (k, b) in conn.bonds.iter_mut().enumerate() {
+        b.order = match order[k] {
+            BondOrder::Unspecified | BondOrder::Aromatic => BondOrder::Single,
+            o => o,
+        };
+    }
+}
+
+/// Kuhn's augmenting path from free atom `v`: true when `v` got a partner.
+fn augment(
+    v: usize,
+    adjacency: &[Vec<(u32, u32)>],
+    mate: &mut [Option<(u32, u32)>],
+    visited: &mut [bool],
+    need: &[Need],
+) -> bool {
+    visited[v] = true;
+    // A free partner first, so optional atoms are not displaced needlessly.
+    for &(w, k) in &adjacency[v] {
+        let w = w as usize;
+        if mate[w].is_none() && !visited[w] && need[w].count > 0 {
+            mate[v] = Some((w as u32, k));
+            mate[w] = Some((v as u32, k));
+            return true;
+        }
+    }
+    for &(w, k) in &adjacency[v] {
+        let w = w as usize;
+        if visited[w] {
+            continue;
+        }
+        visited[w] = true;
+        if let Some((x, _)) = mate[w] {
+            let x = x as usize;
+            // Only take w from an optional partner or one that can rematch.
+            if !visited[x] && augment(x, adjacency, mate, visited, need) {
+                mate[v] = Some((w as u32, k));
+                mate[w] = Some((v as u32, k));
+                return true;
+            }
+            if !visited[x] && !need[x].required {
+                mate[x] = None;
+                mate[v] = Some((w as u32, k));
+                mate[w] = Some((v as u32, k));
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// π bonds an atom needs given its hydrogens.
+#[allow(clippy::too_many_arguments)]
+fn from_valence(
+    e: &str,
+    charge: i8,
+    deg: u32,
+    h: u32,
+    stated: u32,
+    row: &[(u32, u32)],
+    bonds: &[Bond],
+    mol: &Molecule,
+) -> Need {
+    let used = deg + h + stated;
+    if matches!(e, "S" | "P") {
+        let terminal_o = row
+            .iter()
+            .filter(|&&(j, _)| matches!(mol.atoms[j as usize].element.as_str(), "O" | "S"))
+            .count() as u32;
+        let _ = bonds;
+        let want = match (e, deg + h) {
+            ("S", 3) => 1,
+            ("S", 4) => 2,
+            ("P", 4) => 1,
+            ("S", 1) | ("P", 1) | ("P", 2) => 1,
+            _ => 0,
+        };
+        return Need {
+            count: want
+                .min(terminal_o.max(u32::from(deg + h <= 2)))
+                .saturating_sub(stated) as u8,
+            required: false,
+        };
+    }
+    let valences = charged_valences(e, charge);
+    let Some(&v) = valences.first() else {
+        return Need::default();
+    };
+    Need {
+        count: u8::try_from(u32::from(v).saturating_sub(used))
+            .unwrap_or(0)
+            .min(2),
+        required: true,
+    }
+}
+
+/// π bonds an atom of a file-aromatic bond needs (no hydrogens known).
+fn aromatic_need(e: &str, deg: u32, stated: u32) -> Need {
+    match e {
+        "C" if stated == 0 && deg <= 3 => Need {
+            count: 1,
+            required: true,
+        },
+        "N" | "P" if stated == 0 && deg == 2 => Need {
+            count: 1,
+            required: false,
+        },
+        "B" if stated == 0 => Need {
+            count: 1,
+            required: false,
+        },
+        _ => Need::default(),
+    }
+}
+
+/// π bonds an atom needs by its geometry.
+#[allow(clippy::too_many_arguments)]
+fn from_geometry(
+    i: usize,
+    e: &str,
+    row: &[(u32, u32)],
+    pos: &[Vec3],
+    bonds: &[Bond],
+    adj: &Adjacency,
+    mol: &Molecule,
+    flat_ring: u8,
+    in_six_ring: bool,
+    stated: u32,
+) -> Need {
+    let _ = bonds;
+    // `flat_ring == 6` comes only from a trigonal six-ring.
+    let ring_trigonal_flag = flat_ring == 6;
+    let deg = row.len();
+    let angle = mean_angle(i, row, pos);
+    // A trigonal atom has some bond shorter than a single bond (an
+    // aromatic, double or conjugated one): with every bond at single-bond
+    // length the atom is sp3 whatever its angles.
+    let shortest = row
+        .iter()
+        .map(|&(j, _)| {
+            let single = super::elements::covalent_radius(e).unwrap_or(0.76)
+                + super::elements::covalent_radius(mol.atoms[j as usize].element.as_str())
+                    .unwrap_or(0.76);
+            pos[i].distance(pos[j as usize]) / single as f32
+        })
+        .fold(f32::INFINITY, f32::min);
+    let conjugated = shortest < SHORT_BOND;
+    // A two-neighbour sp3 atom opens its angle more than a three-neighbour
+    // one (a CH2 between rings reaches 116°).
+    let trigonal = if deg == 2 { TRIGONAL + 2.0 } else { TRIGONAL };
+    // In a five-ring every angle is near 108° either way: flatness decides.
+    let shape = if deg >= 2 && angle > LINEAR {
+        2
+    } else if (conjugated && ((deg >= 2 && angle > trigonal) || (flat_ring == 5 && deg <= 3)))
+        || (flat_ring == 6 && deg <= 3 && ring_trigonal_flag)
+    {
+        1
+    } else {
+        0
+    };
+    let need = |count: u32, required: bool| Need {
+        count: u8::try_from(count.saturating_sub(stated)).unwrap_or(0),
+        required,
+    };
+    match (e, deg) {
+        ("C", 4) => need(0, false),
+        ("C", 3) => need(u32::from(shape >= 1), true),
+        ("C", 2) => need(shape, true),
+        // A pyridine-like N in a six-ring must; elsewhere (an amide or
+        // pyrrole N with an implicit hydrogen) it may.
+        ("N", 2) if shape >= 1 => need(shape.min(1), in_six_ring && shape == 1),
+        // A pyridinium N (three neighbours in a trigonal six-ring) may.
+        ("N", 3) if ring_trigonal_flag => need(1, false),
+        ("N", 3) => {
+            // A nitro or N-oxide nitrogen keeps one N=O.
+            let terminal_o = row
+                .iter()
+                .filter(|&&(j, _)| {
+                    mol.atoms[j as usize].element == "O" && adj.degree(j as usize) == 1
+                })
+                .count();
+            need(u32::from(terminal_o >= 2), false)
+        }
+        ("S", 3) => need(1, false),
+        ("S", 4) => need(2, false),
+        ("P", 4) => need(1, false),
+        (_, 1) => {
+            let j = row[0].0 as usize;
+            let other = mol.atoms[j].element.as_str();
+            let d = pos[i].distance(pos[j]);
+            let double = match (e, other) {
+                ("O", "C") => d < 1.40,
+                ("O", "N") => d < 1.30,
+                ("O", "S" | "P") => true,
+                ("N", "C") if d < 1.21 => return need(2, false),
+                ("N", "C") => d < 1.36,
+                ("C", "C") if d < 1.25 => return need(2, false),
+                ("C", "C") => d < 1.38,
+                ("C", "N") => d < 1.30,
+                ("C", "O") => d < 1.30,
+                ("S", "C") => d < 1.75,
+                ("S", "P") => true,
+                _ => false,
+            };
+            need(u32::from(double), false)
+        }
+        _ => need(0, false),
+    }
+}
+
+/// Mean angle (degrees) between atom `i`'s bonds (0 with fewer than two).
+fn mean_angle(i: usize, row: &[(u32, u32)], pos: &[Vec3]) -> f32 {
+    let mut sum = 0.0;
+    let mut count = 0;
+    for (x, &(a, _)) in row.iter().enumerate() {
+        for &(b, _) in &row[x + 1..] {
+            let u = pos[a as usize] - pos[i];
+            let v = pos[b as usize] - pos[i];
+            sum += u.angle_between(v).to_degrees();
+            count += 1;
+        }
+    }
+    if count == 0 { 0.0 } else { sum / count as f32 }
+}

@@ -1,0 +1,188 @@
+//! What an evaluator of the intermolecular energy provides, and the energy
+//! of a whole conformation built on it.
+//!
+//! An evaluator ([`Field`]) gives the energy of one drug atom of a given type
+//! at a point of the receptor's frame: Vina's value (the table, as `score()`
+//! reads it) and a continuous value with its gradient (what an optimiser
+//! follows). [`energies`] and [`energy_gradient`] add the intramolecular
+//! pairs, apply the curl (per drug atom to its summed intermolecular energy,
+//! per pair to the intramolecular one) and, for the gradient, carry each
+//! atom's gradient up the torsion tree to the force, torque and torsion
+//! torques ([`Ligand::gradient`]).
+
+use glam::{DMat3, DVec3};
+
+use super::function::{CUTOFF2, curl, curl_with_slope};
+use super::ligand::{Conformation, Gradient, Ligand};
+use super::table::{Table, index, smooth_at};
+use crate::chem::XsType;
+
+/// An evaluator of the intermolecular energy of single drug atoms.
+pub trait Field {
+    /// The pair table of the scoring function the field evaluates.
+    fn table(&self) -> &'static Table;
+
+    /// Vina's intermolecular energy of an atom of type `t` at `x` (receptor
+    /// frame), before the curl.
+    fn atom_energy(&self, t: XsType, x: DVec3) -> f64;
+
+    /// A continuous version of [`Self::atom_energy`] and its gradient with
+    /// respect to `x`.
+    fn atom_energy_gradient(&self, t: XsType, x: DVec3) -> (f64, DVec3);
+}
+
+/// Working storage for evaluations, kept between calls so that none
+/// allocates.
+#[derive(Debug, Clone, Default)]
+pub struct Workspace {
+    frames: Vec<(DMat3, DVec3)>,
+    /// Heavy-atom positions of the last conformation evaluated.
+    pub positions: Vec<DVec3>,
+    gradients: Vec<DVec3>,
+    tree: Vec<(DVec3, DVec3)>,
+}
+
+/// The intermolecular and intramolecular energies of a conformation
+/// (kcal/mol), each after the curl, before the torsion divisor.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Energies {
+    /// Intermolecular.
+    pub inter: f64,
+    /// Intramolecular.
+    pub intra: f64,
+}
+
+impl Energies {
+    /// `inter + intra`: what the optimiser minimises.
+    pub fn sum(&self) -> f64 {
+        self.inter + self.intra
+    }
+}
+
+/// Vina's energies of `conf` (the table's values, as `score()` gives them).
+pub fn energies<F: Field + ?Sized>(
+    field: &F,
+    lig: &Ligand,
+    conf: &Conformation,
+    ws: &mut Workspace,
+) -> Energies {
+    lig.place_into(conf, &mut ws.frames, &mut ws.positions);
+    let x = &ws.positions;
+    let mut inter = 0.0;
+    for (&i, &t) in lig.scored.iter().zip(&lig.xs) {
+        inter += curl(field.atom_energy(t, x[i as usize]));
+    }
+    let table = field.table();
+    let mut intra = 0.0;
+    for &[a, b] in &lig.pairs {
+        let (i, j) = (
+            lig.scored[a as usize] as usize,
+            lig.scored[b as usize] as usize,
+        );
+        let r2 = (x[i] - x[j]).length_squared();
+        if r2 < CUTOFF2 {
+            intra += curl(table.fast_row(lig.xs[a as usize], lig.xs[b as usize])[index(r2)]);
+        }
+    }
+    Energies { inter, intra }
+}
+
+/// The continuous energies of `conf` and the gradient of their sum.
+pub fn energy_gradient<F: Field + ?Sized>(
+    field: &F,
+    lig: &Ligand,
+    conf: &Conformation,
+    ws: &mut Workspace,
+    grad: &mut Gradient,
+) -> Energies {
+    lig.place_into(conf, &mut ws.frames, &mut ws.positions);
+    let x = &ws.positions;
+    ws.gradients.clear();
+    ws.gradients.resize(x.len(), DVec3::ZERO);
+    let g = &mut ws.gradients;
+    let mut inter = 0.0;
+    for (&i, &t) in lig.scored.iter().zip(&lig.xs) {
+        let (e, de) = field.atom_energy_gradient(t, x[i as usize]);
+        let (e, s) = curl_with_slope(e);
+        inter += e;
+        g[i as usize] += de * s;
+    }
+    let table = field.table();
+    let mut intra = 0.0;
+    for &[a, b] in &lig.pairs {
+        let (i, j) = (
+            lig.scored[a as usize] as usize,
+            lig.scored[b as usize] as usize,
+        );
+        let d = x[i] - x[j];
+        let r2 = d.length_squared();
+        if r2 < CUTOFF2 {
+            let (e, de) = smooth_at(table.smooth_row(lig.xs[a as usize], lig.xs[b as usize]), r2);
+            let (e, s) = curl_with_slope(e);
+            intra += e;
+            let f = d * (2.0 * de * s);
+            g[i] += f;
+            g[j] -= f;
+        }
+    }
+    lig.gradient(conf, x, g, &mut ws.tree, grad);
+    Energies { inter, intra }
+}
+
+/// The drug held in one conformation and moved rigidly: what a haptic loop
+/// asks for while the user moves the drug without turning its bonds. The
+/// intramolecular energy does not change under a rigid motion, so it is
+/// computed once; each query is the intermolecular energy and the force and
+/// torque (as `∂E/∂T` and `∂E/∂ω` about the drug's centre).
+#[derive(Debug, Clone, Default)]
+pub struct RigidDrug {
+    /// Scored atoms' positions in the drug's frame at the held conformation.
+    local: Vec<DVec3>,
+    /// Their types.
+    xs: Vec<XsType>,
+    /// Vina's intramolecular energy at the held conformation.
+    pub intra: f64,
+}
+
+impl RigidDrug {
+    /// `lig` held at `torsions` (radians from the loaded angles).
+    pub fn new<F: Field + ?Sized>(field: &F, lig: &Ligand, torsions: &[f64]) -> Self {
+        let conf = Conformation {
+            pose: crate::motion::Pose::IDENTITY,
+            torsions: torsions.to_vec(),
+        };
+        let mut ws = Workspace::default();
+        let intra = energies(field, lig, &conf, &mut ws).intra;
+        Self {
+            local: lig
+                .scored
+                .iter()
+                .map(|&i| ws.positions[i as usize])
+                .collect(),
+            xs: lig.xs.clone(),
+            intra,
+        }
+    }
+
+    /// The intermolecular energy at `pose` (after the curl) with `∂E/∂T`
+    /// and `∂E/∂ω`.
+    #[inline]
+    pub fn energy_gradient<F: Field + ?Sized>(
+        &self,
+        field: &F,
+        pose: &crate::motion::Pose,
+    ) -> (f64, DVec3, DVec3) {
+        let m = DMat3::from_quat(pose.rotation);
+        let (mut e, mut force, mut moment) = (0.0, DVec3::ZERO, DVec3::ZERO);
+        for (y, &t) in self.local.iter().zip(&self.xs) {
+            let r = m * *y;
+            let (v, g) = field.atom_energy_gradient(t, r + pose.translation);
+            let (v, s) = curl_with_slope(v);
+            let g = g * s;
+            e += v;
+            force += g;
+            moment += r.cross(g);
+        }
+        (e, force, moment)
+    }
+}
