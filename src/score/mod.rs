@@ -15,6 +15,7 @@
 //!   from a map, reported beside the score.
 //! - [`report`]: a pose's score term by term, per atom, with its hydrogen
 //!   bonds.
+//! - [`contrib`]: each receptor atom's share of a pose's energy.
 //!
 //! The scoring takes typed atoms (positions and X-Score types, and for the
 //! drug its torsion tree), so it does not depend on how they were typed:
@@ -24,6 +25,7 @@
 //! receptor's centre, the drug placed by its pose relative to the receptor
 //! (as [`crate::scene::Scene::relative`] gives it).
 
+pub mod contrib;
 pub mod coulomb;
 pub mod exact;
 pub mod field;
