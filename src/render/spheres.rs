@@ -426,7 +426,7 @@ impl SphereRenderer {
                 (start * size) as u64,
                 bytemuck::cast_slice(run),
             );
-            self.stats.color_bytes += (run.len() * size) as u64;
+            self.stats.color_bytes += std::mem::size_of_val(run) as u64;
             k += 1;
         }
         dirty.len()
