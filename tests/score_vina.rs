@@ -3,6 +3,8 @@
 //! pairs and torsion count: totals, inter and intra energies and every term
 //! agree to 1e-6 kcal/mol (Vina's and bump's table are the same samples).
 
+#![allow(clippy::unwrap_used)]
+
 mod score_support;
 
 use bump::motion::Pose;

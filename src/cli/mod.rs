@@ -16,6 +16,8 @@ mod devices;
 mod render;
 mod report;
 mod scene_args;
+mod score;
+mod settle;
 mod stats;
 mod touch;
 mod window;
@@ -44,6 +46,10 @@ enum Command {
     Check(check::CheckArgs),
     /// Move-to-touch: how far the drug may move along a proposed motion.
     Touch(touch::TouchArgs),
+    /// AutoDock Vina's score, term by term, with the Coulomb energy beside it.
+    Score(score::ScoreArgs),
+    /// Minimise the score from the pose without ever colliding (Vina's optimize).
+    Settle(settle::SettleArgs),
     /// Atoms per grid cell (the thesis's Table 1) for real files.
     Stats(stats::StatsArgs),
     /// Draw the scene offscreen to a PNG (no window needed).
@@ -75,6 +81,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Some(Command::Check(a)) => check::run(&a),
         Some(Command::Touch(a)) => touch::run(&a),
+        Some(Command::Score(a)) => score::run(&a),
+        Some(Command::Settle(a)) => settle::run(&a),
         Some(Command::Stats(a)) => stats::run(&a),
         #[cfg(feature = "app")]
         Some(Command::Render(a)) => render::run(&a),

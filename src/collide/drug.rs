@@ -119,6 +119,35 @@ impl DrugAtoms {
     /// Prepares `drug` for a receptor whose largest atom radius is
     /// `receptor_max_radius`, judged by `rule`.
     pub fn new(drug: &Molecule, rule: &ContactRule, receptor_max_radius: f32) -> Self {
+        Self::with_groups(drug, rule, receptor_max_radius, compact_order(&drug.local))
+    }
+
+    /// [`Self::new`] with the atoms grouped in runs of four of `members` (a
+    /// permutation of the atom indices, as [`compact_order`] gives) instead
+    /// of a grouping computed here: for a drug whose shape changes a little
+    /// between queries (its torsions turn), the grouping of its first shape
+    /// stays compact and need not be computed again. Groups affect only a
+    /// query's cost, never its answer.
+    ///
+    /// # Panics
+    /// When `members` is not a permutation of the atom indices.
+    pub fn with_groups(
+        drug: &Molecule,
+        rule: &ContactRule,
+        receptor_max_radius: f32,
+        members: Vec<u32>,
+    ) -> Self {
+        assert!(
+            {
+                let mut seen = vec![false; drug.len()];
+                members.len() == drug.len()
+                    && members.iter().all(|&i| {
+                        seen.get_mut(i as usize)
+                            .is_some_and(|s| !std::mem::replace(s, true))
+                    })
+            },
+            "DrugAtoms::with_groups: members must be a permutation of the atoms"
+        );
         let radius: Vec<f32> = drug.atoms.iter().map(|a| a.radius).collect();
         let polar: Vec<bool> = drug.atoms.iter().map(|a| a.polar).collect();
         let c_plain: Vec<f32> = radius.iter().map(|r| r - rule.overlap).collect();
@@ -139,7 +168,6 @@ impl DrugAtoms {
             .map(|(a, b)| a.max(*b))
             .collect();
         // The groups: runs of four of `members`, atoms close together.
-        let members = compact_order(&drug.local);
         let grouped = |v: &[f32]| -> Vec<f32> { members.iter().map(|&i| v[i as usize]).collect() };
         let (own_grouped, local_grouped): (Vec<f32>, Vec<Vec3>) = (
             grouped(&own),

@@ -223,6 +223,8 @@ impl CoulombMap {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use super::*;
     use crate::rng::Rng;
     use crate::score::XsType;

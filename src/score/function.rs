@@ -313,6 +313,8 @@ pub fn torsion_divisor(torsion_count: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use super::*;
 
     #[test]

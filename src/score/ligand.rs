@@ -387,6 +387,8 @@ fn check_tree(n: usize, fragments: &[Fragment]) -> Result<Vec<u32>, LigandError>
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use super::*;
 
     /// A chain of six carbons, 0-1-2-3-4-5, along a zigzag, with rotatable

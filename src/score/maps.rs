@@ -512,6 +512,8 @@ impl MapsJob {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use super::*;
     use crate::rng::Rng;
 

@@ -16,6 +16,8 @@
 //! - [`report`]: a pose's score term by term, per atom, with its hydrogen
 //!   bonds.
 //! - [`contrib`]: each receptor atom's share of a pose's energy.
+//! - [`settle`](mod@settle): local minimisation over position, orientation and
+//!   torsions (Vina's BFGS) whose steps never collide or tunnel.
 //!
 //! The scoring takes typed atoms (positions and X-Score types, and for the
 //! drug its torsion tree), so it does not depend on how they were typed:
@@ -35,6 +37,7 @@ pub mod maps;
 pub mod prepare;
 pub mod receptor;
 pub mod report;
+pub mod settle;
 pub mod table;
 
 pub use crate::chem::XsType;
@@ -45,3 +48,4 @@ pub use ligand::{Conformation, Fragment, Gradient, Ligand, LigandError};
 pub use maps::{MapBox, MapField, Maps, MapsError, MapsJob};
 pub use receptor::Receptor;
 pub use report::{Donor, Evaluator, HBond, Score, score};
+pub use settle::{Contacts, SettleOptions, Settled, settle};

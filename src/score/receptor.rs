@@ -257,6 +257,8 @@ impl Receptor {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use super::*;
     use crate::rng::Rng;
 

@@ -67,6 +67,8 @@ impl Table {
         let mut fast = Vec::with_capacity(TYPES * (TYPES + 1) / 2);
         let mut smooth = Vec::with_capacity(TYPES * (TYPES + 1) / 2);
         let mut pair = [[0u16; TYPES]; TYPES];
+        // Both halves of the symmetric index are written at once.
+        #[allow(clippy::needless_range_loop)]
         for a in 0..TYPES {
             for b in a..TYPES {
                 pair[a][b] = fast.len() as u16;
@@ -182,6 +184,8 @@ pub fn fast_terms(scoring: Scoring, a: XsType, b: XsType, r2: f64) -> [f64; MAX_
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use super::*;
 
     #[test]

@@ -2,6 +2,7 @@
 //! numbers, see `make_reference.py` beside it) for the scoring tests.
 
 #![allow(dead_code)] // Each test binary uses its own part of this module.
+#![allow(clippy::unwrap_used)] // A malformed reference file should fail the test loudly.
 
 use std::collections::HashMap;
 use std::path::PathBuf;
