@@ -14,3 +14,5 @@ done
 for mode in side-by-side side-by-side-half top-bottom top-bottom-half rows columns anaglyph frame-sequential; do
     "$bump" render "$pdb" "${common[@]}" --stereo "$mode" --eye-sep 0.06 -o "$out/stereo-$mode.png"
 done
+# docs/viewing.md: DHFR with trimethoprim, coloured by Vina contribution.
+"$bump" render "$pdb" "${common[@]}" --color contribution --cue translucent -o "$out/fit-contribution.png"

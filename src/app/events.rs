@@ -132,6 +132,17 @@ impl App {
                 let msg = self.hud.view.apply(c);
                 self.hud.say(msg);
             }
+            ShellAction::ToggleContribution => {
+                let on = !self.hud.score.by_contribution;
+                self.hud.score.by_contribution = on;
+                self.hud
+                    .say(format!("colour by contribution {}", on_off(on)));
+            }
+            ShellAction::ToggleHBonds => {
+                let on = !self.hud.score.hbonds;
+                self.hud.score.hbonds = on;
+                self.hud.say(format!("hydrogen bonds {}", on_off(on)));
+            }
         }
     }
 
@@ -424,4 +435,8 @@ impl ApplicationHandler for App {
             _ => {}
         }
     }
+}
+
+fn on_off(on: bool) -> &'static str {
+    if on { "on" } else { "off" }
 }

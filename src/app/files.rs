@@ -143,6 +143,8 @@ impl App {
         let title = self.title();
         if let Some(g) = &mut self.gfx {
             g.reload(&self.session, &title);
+            // The new renderer has element colours only.
+            self.hud.score.colors = Default::default();
         }
         self.request_redraw();
     }

@@ -160,6 +160,7 @@ impl App {
         let open = &mut self.open_dialog;
         let dialogs = &mut self.dialogs;
         let picked = hud.picked;
+        let hbonds = hud.score.last.clone().filter(|_| hud.score.hbonds);
         let plan = hud
             .view
             .stereo
@@ -174,7 +175,7 @@ impl App {
             .collect();
         let mut full = g.egui_ctx.run_ui(raw, |ui| {
             let ppp = f64::from(ui.ctx().pixels_per_point());
-            overlay::draw(ui.ctx(), session, &views, picked, ppp);
+            overlay::draw(ui.ctx(), session, &views, picked, hbonds.as_deref(), ppp);
             let mut help = dialogs.is_open(Dialog::Help);
             cmds = super::hud::show(ui, session, hud, &mut help);
             dialogs.set(Dialog::Help, help);
@@ -211,6 +212,9 @@ impl App {
     /// beep, flash and rumble.
     fn step(&mut self, input: &FrameInput, dt: f64, now: Instant) -> FrameOutcome {
         let out = self.session.step(input, dt);
+        if let Some(s) = &out.score {
+            self.hud.score.push(s.clone());
+        }
         for m in &out.messages {
             self.hud.say(m.clone());
         }
@@ -254,6 +258,15 @@ impl App {
         let Some(g) = self.gfx.as_mut() else { return };
         g.spheres
             .apply_highlights(&g.gpu.queue, &out.highlight_changes);
+        // Colours by contribution: only when the score or the toggle changed,
+        // and then only the atoms whose colour changed.
+        let panel = &mut self.hud.score;
+        if panel.by_contribution != panel.colors.shown || out.score.is_some() {
+            let score = panel.last.as_deref().filter(|_| panel.by_contribution);
+            let changes = panel.colors.update(score);
+            g.spheres.set_colors(&g.gpu.queue, &changes);
+            panel.colors.shown = panel.by_contribution;
+        }
         let background = if flashing {
             [0.35, 0.02, 0.05]
         } else {

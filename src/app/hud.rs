@@ -60,6 +60,8 @@ pub struct HudState {
     pub replay: Option<String>,
     /// Depth cues and stereo.
     pub view: super::stereo::ViewState,
+    /// The live score and the views of the fit.
+    pub score: super::score_panel::ScorePanel,
 }
 
 impl HudState {
@@ -156,6 +158,7 @@ pub fn show(
     if session.settings().collision {
         contacts_box(&ctx, session);
     }
+    super::score_panel::show(&ctx, &mut hud.score);
     if *help {
         egui::Window::new("Keys and mouse (Escape closes)")
             .open(help)

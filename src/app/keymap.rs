@@ -100,6 +100,10 @@ pub enum ShellAction {
     Escape,
     /// Change a depth cue or the stereo settings.
     Cue(CueAction),
+    /// Colour atoms by their score contribution on/off.
+    ToggleContribution,
+    /// Hydrogen bonds drawn on/off.
+    ToggleHBonds,
 }
 
 /// What a binding does.
@@ -362,6 +366,16 @@ pub const TABLE: &[Entry] = &[
         &[(K::KeyT, N)],
         W(ShellAction::Cue(CueAction::Translucent)),
         "translucent receptor on/off",
+    ),
+    row(
+        &[(K::KeyU, N)],
+        W(ShellAction::ToggleContribution),
+        "colour the drug and the pocket by score contribution (blue helps, red hurts) on/off",
+    ),
+    row(
+        &[(K::KeyN, N)],
+        W(ShellAction::ToggleHBonds),
+        "hydrogen bonds (dashed) on/off",
     ),
     row(
         &[(K::F12, N)],

@@ -36,6 +36,7 @@ pub mod overlay;
 pub mod pick;
 pub mod player;
 pub mod saving;
+pub mod score_panel;
 pub mod stereo;
 
 use std::path::PathBuf;
@@ -248,7 +249,8 @@ struct App {
 }
 
 impl App {
-    fn new(session: Session) -> Self {
+    fn new(mut session: Session) -> Self {
+        session.enable_score();
         Self {
             session,
             gfx: None,

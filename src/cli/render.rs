@@ -3,7 +3,8 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
-use bump::render::offscreen::{render_image, save_png};
+use bump::render::contrib::ContributionColors;
+use bump::render::offscreen::{Offscreen, save_png};
 use bump::render::{Cues, Gpu, Stereo, StereoMode, ViewParams};
 use bump::session::{Command, FrameInput, Session, Settings};
 use clap::Args;
@@ -63,6 +64,11 @@ pub struct RenderArgs {
     /// Frame number (frame-sequential stereo: even frames show the left eye).
     #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     frame: u64,
+    /// Atom colours: `element`, or `contribution` (the drug's atoms and the
+    /// receptor's within 8 Å by their Vina contribution: blue helps, white
+    /// neutral, red hurts).
+    #[arg(long, default_value = "element", value_parser = ["element", "contribution"])]
+    color: String,
 }
 
 fn parse_stereo(s: &str) -> Result<StereoMode, String> {
@@ -133,6 +139,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     };
     let molecules = vec![loaded.scene.receptor.clone(), loaded.scene.drug.clone()];
     let mut session = Session::new(molecules, settings)?;
+    let by_contribution = args.color == "contribution";
+    if by_contribution {
+        session.enable_score();
+    }
     let mut commands = Vec::new();
     if args.translate.is_some() || args.turn.is_some() {
         commands.push(Command::MoveBy {
@@ -177,8 +187,25 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         params.light = l;
     }
     let (w, h) = args.size;
-    let image = render_image(&gpu, &session, w, h, &params)?;
+    let mut target = Offscreen::new(&gpu, &session, w, h)?;
+    let score = session.live_score().cloned();
+    if by_contribution {
+        let Some(s) = &score else {
+            bail!("--color contribution needs a drug and a receptor to score");
+        };
+        let changes = ContributionColors::default().update(Some(s));
+        target.spheres.set_colors(&gpu.queue, &changes);
+    }
+    let image = target.render(&gpu, &session, &params)?;
     save_png(&image, &args.output)?;
+    if let Some(s) = &score {
+        outln!(
+            "Vina score {:.3} kcal/mol (inter {:.3}), {} H-bonds",
+            s.score.total,
+            s.score.inter,
+            s.score.hbonds.len()
+        );
+    }
     outln!(
         "wrote {} ({w}x{h}, {} atoms, {} in contact) with {}",
         args.output.display(),

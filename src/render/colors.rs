@@ -1,5 +1,6 @@
 //! Atom colours: CPK element colours (as in Jmol/PyMOL), carbons tinted per
-//! molecule so receptor and drug are told apart, and the contact highlight.
+//! molecule so receptor and drug are told apart, the contact highlight, and
+//! the diverging scale of per-atom score contributions.
 
 /// Colour of atoms in contact (magenta: no element has it).
 pub const HIGHLIGHT: [f32; 3] = [1.0, 0.1, 0.9];
@@ -39,5 +40,76 @@ pub fn element(symbol: &str, body: usize) -> [f32; 3] {
         "Ca" | "Mg" => [0.24, 1.0, 0.0],
         "Na" | "K" => [0.67, 0.36, 0.95],
         _ => [1.0, 0.08, 0.58],
+    }
+}
+
+/// The contribution (kcal/mol per atom) at which the diverging scale is
+/// fully blue (−) or fully red (+).
+pub const CONTRIBUTION_RANGE: f64 = 0.5;
+
+/// Steps of the scale on each side of neutral: contributions are
+/// quantised to `2 × CONTRIBUTION_LEVELS + 1` colours, so an atom's colour
+/// is uploaded again only when it crosses a step.
+pub const CONTRIBUTION_LEVELS: i8 = 8;
+
+/// Favourable end of the scale (linear RGB).
+pub const FAVOURABLE: [f32; 3] = [0.02, 0.12, 1.0];
+/// Neutral middle of the scale.
+pub const NEUTRAL: [f32; 3] = [1.0, 1.0, 1.0];
+/// Unfavourable end of the scale.
+pub const UNFAVOURABLE: [f32; 3] = [1.0, 0.02, 0.02];
+
+/// The step of contribution `e` on the scale: −[`CONTRIBUTION_LEVELS`]
+/// (at or below −[`CONTRIBUTION_RANGE`]) to +[`CONTRIBUTION_LEVELS`];
+/// 0 for a non-finite value.
+pub fn contribution_level(e: f64) -> i8 {
+    if !e.is_finite() {
+        return 0;
+    }
+    let l = f64::from(CONTRIBUTION_LEVELS);
+    (e / CONTRIBUTION_RANGE * l).round().clamp(-l, l) as i8
+}
+
+/// The colour of step `level` (clamped to the scale): white at 0, blending
+/// linearly to [`FAVOURABLE`] below and [`UNFAVOURABLE`] above.
+pub fn level_color(level: i8) -> [f32; 3] {
+    let n = CONTRIBUTION_LEVELS;
+    let l = level.clamp(-n, n);
+    let f = f32::from(l.unsigned_abs()) / f32::from(n);
+    let end = if l < 0 { FAVOURABLE } else { UNFAVOURABLE };
+    [0, 1, 2].map(|k| NEUTRAL[k] * (1.0 - f) + end[k] * f)
+}
+
+/// The colour of contribution `e` (kcal/mol): favourable blue, neutral
+/// white, unfavourable red.
+pub fn contribution(e: f64) -> [f32; 3] {
+    level_color(contribution_level(e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_contribution_scale_diverges_from_white() {
+        assert_eq!(contribution(0.0), NEUTRAL);
+        assert_eq!(contribution(-CONTRIBUTION_RANGE), FAVOURABLE);
+        assert_eq!(contribution(-3.0), FAVOURABLE);
+        assert_eq!(contribution(2.0), UNFAVOURABLE);
+        assert_eq!(contribution(f64::NAN), NEUTRAL);
+        // Half way: half way between white and the end, in linear RGB.
+        let h = contribution(-CONTRIBUTION_RANGE / 2.0);
+        assert!((h[0] - 0.51).abs() < 1e-6 && (h[2] - 1.0).abs() < 1e-6);
+        // Quantised: a change within a step keeps the colour.
+        assert_eq!(contribution_level(0.01), 0);
+        assert_eq!(contribution_level(0.07), contribution_level(0.09));
+        assert_eq!(contribution_level(-0.0625), -1);
+        // Monotone: more favourable is never less blue.
+        let mut last = 0.0f32;
+        for i in 0..=20 {
+            let c = contribution(-0.05 * f64::from(i));
+            assert!(1.0 - c[0] >= last);
+            last = 1.0 - c[0];
+        }
     }
 }

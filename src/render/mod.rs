@@ -6,9 +6,13 @@
 //! [`offscreen`] renders without a window, to pixels or a PNG. Depth cues
 //! ([`cues`]) and stereo ([`stereo`]) are per-frame settings in
 //! [`ViewParams`]; a cue that is off costs no pass, pipeline or texture.
+//! Colour by contribution ([`contrib`]) rewrites only the atoms whose
+//! quantised colour changed.
 
 pub mod colors;
+pub mod contrib;
 pub mod cues;
+pub mod dashes;
 pub mod gpu;
 pub mod offscreen;
 pub mod pipelines;

@@ -135,6 +135,8 @@ pub struct UploadStats {
     pub matrix_bytes: u64,
     /// Highlight bits.
     pub highlight_bytes: u64,
+    /// Atom colours rewritten (colour by contribution).
+    pub color_bytes: u64,
 }
 
 /// Draws every atom of a session as ray-cast spheres.
@@ -144,6 +146,11 @@ pub struct SphereRenderer {
     eyes: [(wgpu::Buffer, wgpu::BindGroup); 2],
     mv_buf: wgpu::Buffer,
     hl_buf: wgpu::Buffer,
+    atom_buf: wgpu::Buffer,
+    /// The atoms as uploaded, so that a colour change rewrites whole atoms.
+    atoms: Vec<GpuAtom>,
+    /// Each atom's element colour, to go back to.
+    element_colors: Vec<[f32; 3]>,
     n_atoms: u32,
     offsets: Vec<usize>,
     words: Vec<u32>,
@@ -187,8 +194,12 @@ impl SphereRenderer {
         let atom_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("atoms"),
             contents: bytemuck::cast_slice(&atoms),
-            usage: wgpu::BufferUsages::STORAGE,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
+        let element_colors = atoms
+            .iter()
+            .map(|a| [a.color_body[0], a.color_body[1], a.color_body[2]])
+            .collect();
         let n_bodies = session.bodies().len().max(1);
         let mv_buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("model-view"),
@@ -253,6 +264,9 @@ impl SphereRenderer {
             eyes,
             mv_buf,
             hl_buf,
+            atom_buf,
+            atoms,
+            element_colors,
             n_atoms,
             offsets,
             words,
@@ -370,6 +384,59 @@ impl SphereRenderer {
             self.stats.highlight_bytes += (words.len() * 4) as u64;
             k += 1;
         }
+    }
+
+    /// Recolours atoms: `(molecule, atom, colour)`, `None` for the
+    /// element's colour. Only atoms whose colour differs are rewritten, in
+    /// contiguous runs; returns how many atoms changed.
+    pub fn set_colors(
+        &mut self,
+        queue: &wgpu::Queue,
+        changes: &[(usize, usize, Option<[f32; 3]>)],
+    ) -> usize {
+        let mut dirty: Vec<usize> = Vec::new();
+        for &(body, atom, color) in changes {
+            let Some(&base) = self.offsets.get(body) else {
+                continue;
+            };
+            let i = base + atom;
+            let (Some(a), Some(e)) = (self.atoms.get_mut(i), self.element_colors.get(i)) else {
+                continue;
+            };
+            let c = color.unwrap_or(*e);
+            if a.color_body[..3] != c {
+                a.color_body[..3].copy_from_slice(&c);
+                dirty.push(i);
+            }
+        }
+        dirty.sort_unstable();
+        dirty.dedup();
+        let size = std::mem::size_of::<GpuAtom>();
+        let mut k = 0;
+        while k < dirty.len() {
+            let start = dirty[k];
+            let mut end = start;
+            while k + 1 < dirty.len() && dirty[k + 1] == end + 1 {
+                k += 1;
+                end += 1;
+            }
+            let run = &self.atoms[start..=end];
+            queue.write_buffer(
+                &self.atom_buf,
+                (start * size) as u64,
+                bytemuck::cast_slice(run),
+            );
+            self.stats.color_bytes += std::mem::size_of_val(run) as u64;
+            k += 1;
+        }
+        dirty.len()
+    }
+
+    /// The colour atom `atom` of molecule `body` is drawn with now (linear
+    /// RGB), if it exists.
+    pub fn color_of(&self, body: usize, atom: usize) -> Option<[f32; 3]> {
+        let a = self.atoms.get(self.offsets.get(body)? + atom)?;
+        Some([a.color_body[0], a.color_body[1], a.color_body[2]])
     }
 
     /// Sets every highlight from the session (after loading, say).

@@ -15,6 +15,7 @@
 //!   from a map, reported beside the score.
 //! - [`report`]: a pose's score term by term, per atom, with its hydrogen
 //!   bonds.
+//! - [`contrib`]: each receptor atom's share of a pose's energy.
 //! - [`settle`](mod@settle): local minimisation over position, orientation and
 //!   torsions (Vina's BFGS) whose steps never collide or tunnel.
 //!
@@ -26,6 +27,7 @@
 //! receptor's centre, the drug placed by its pose relative to the receptor
 //! (as [`crate::scene::Scene::relative`] gives it).
 
+pub mod contrib;
 pub mod coulomb;
 pub mod exact;
 pub mod field;

@@ -33,6 +33,7 @@ pub mod keys;
 pub mod labels;
 pub mod log;
 pub mod replay;
+pub mod score;
 pub mod steer;
 pub mod timing;
 
@@ -51,6 +52,7 @@ pub use labels::Role;
 use collisions::Environment;
 pub use log::{LogError, LogFrame, LogWriter, SessionLog};
 pub use replay::{Replayed, replay};
+pub use score::LiveScore;
 pub use timing::{Summary, Timing};
 
 use crate::collide::{
@@ -178,6 +180,9 @@ pub struct FrameOutcome {
     pub messages: Vec<String>,
     /// The user asked to quit.
     pub quit: bool,
+    /// The live score, when it was computed this frame (the drug moved
+    /// relative to the receptor; see [`score`]).
+    pub score: Option<Arc<LiveScore>>,
 }
 
 impl FrameOutcome {
@@ -233,6 +238,8 @@ pub struct Session {
     roles: Vec<Role>,
     /// Per molecule: its pose when it was loaded or last saved.
     saved: Vec<Pose>,
+    /// The live score (off until [`Session::enable_score`]).
+    live: score::LiveScoring,
 }
 
 impl Session {
@@ -296,6 +303,7 @@ impl Session {
             keys: KeySteps::default(),
             roles,
             saved,
+            live: score::LiveScoring::default(),
         }
     }
 
@@ -375,6 +383,7 @@ impl Session {
         self.own_colliders.push(None);
         self.moving_atoms.push(None);
         self.saved.push(pose);
+        self.live.reset();
         self.selected = self.bodies.len() - 1;
         self.env = None;
         self.history.close();
@@ -518,7 +527,49 @@ impl Session {
             let (translate, axis, angle) = self.to_world(&object);
             self.move_selected(translate, axis, angle, &mut out);
         }
+        self.update_score(&mut out);
         out
+    }
+
+    /// Scores the drug if it moved relative to the receptor this frame.
+    fn update_score(&mut self, out: &mut FrameOutcome) {
+        if !self.live.is_on() {
+            return;
+        }
+        let drug = self.drug();
+        let roles: Vec<Option<Role>> = (0..self.bodies.len()).map(|k| self.role(k)).collect();
+        out.score = self.live.update(
+            out.changed,
+            &self.bodies,
+            drug,
+            |k| roles.get(k).copied().flatten(),
+            &mut out.messages,
+        );
+    }
+
+    /// Switches the live score on: from the next frame on, every frame in
+    /// which the drug moves relative to the receptor is scored
+    /// ([`FrameOutcome::score`]).
+    pub fn enable_score(&mut self) {
+        self.live.enable();
+    }
+
+    /// The last live score, if any.
+    pub fn live_score(&self) -> Option<&Arc<LiveScore>> {
+        self.live.last()
+    }
+
+    /// Pins the drug's current pose (relative to the receptor) as the
+    /// reference for the RMSD and the ghost; `false` when there is no live
+    /// score yet. The next frame scores again.
+    pub fn pin_reference(&mut self) -> bool {
+        self.live.pin(&self.bodies)
+    }
+
+    /// The reference pose: (drug, receptor, the drug's pose relative to the
+    /// receptor), once the live score has prepared the pair.
+    pub fn reference_pose(&self) -> Option<(usize, usize, Pose)> {
+        self.live.reference(&self.bodies)
     }
 
     /// One motion key's step: the view, or the selected molecule in object

@@ -1,0 +1,166 @@
+//! Image tests of the views of the fit, on whatever adapter there is
+//! (Mesa's CPU Vulkan in CI): colour by contribution shows a known
+//! favourable atom blue and a known unfavourable one red where they
+//! project, and recolouring uploads only the atoms whose colour changed.
+
+mod common;
+
+use common::gpu;
+
+use bump::model::{LigandSpec, LoadOptions};
+use bump::render::colors::{CONTRIBUTION_LEVELS, level_color};
+use bump::render::contrib::ContributionColors;
+use bump::render::offscreen::Offscreen;
+use bump::render::view::{model_views, projection};
+use bump::render::{Cues, ViewParams};
+use bump::session::{Command, FrameInput, LiveScore, Session, Settings};
+use glam::{DVec3, Vec3};
+
+fn dhfr_trimethoprim() -> Option<Session> {
+    let dir = common::shared_pdb()?;
+    let loaded = bump::model::load(&dir.join("6xg5_tmp_prepared.pdb"), &LoadOptions::default())
+        .expect("load");
+    let spec = LigandSpec::parse("TOP").expect("spec");
+    let (r, d) = bump::model::split_complex(&loaded.structure, &spec).expect("split");
+    let mut s = Session::new(vec![r, d], Settings::default()).expect("session");
+    s.enable_score();
+    Some(s)
+}
+
+fn move_drug(s: &mut Session, translate: DVec3) -> Option<std::sync::Arc<LiveScore>> {
+    s.step(
+        &FrameInput::with_commands(&[Command::MoveBy {
+            translate,
+            axis: DVec3::Z,
+            degrees: 0.0,
+        }]),
+        0.0,
+    )
+    .score
+}
+
+/// A drug atom at least a quarter of the scale from neutral (blue side or
+/// red side) whose centre
+/// no other drug atom hides, nearest the eye: (atom, its step).
+fn visible_atom(s: &Session, score: &LiveScore, favourable: bool) -> Option<(usize, i8)> {
+    let mv = model_views(s)[1];
+    let m = &s.bodies()[1].molecule;
+    let view: Vec<Vec3> = m.local.iter().map(|p| mv.transform_point3(*p)).collect();
+    let levels = ContributionColors::levels_of(score);
+    let want = CONTRIBUTION_LEVELS / 4;
+    let mut best: Option<(usize, i8)> = None;
+    for (&(b, a), &l) in &levels {
+        let strong = if favourable { l <= -want } else { l >= want };
+        if b != 1 || !strong {
+            continue;
+        }
+        let hidden = view.iter().enumerate().any(|(j, v)| {
+            j != a
+                && v.z > view[a].z
+                && (v.truncate() - view[a].truncate()).length() < m.atoms[j].radius * 1.05
+        });
+        if !hidden && best.is_none_or(|(k, _)| view[a].z > view[k].z) {
+            best = Some((a, l));
+        }
+    }
+    best
+}
+
+fn project(s: &Session, body: usize, local: Vec3, w: u32, h: u32) -> (u32, u32) {
+    let mv = model_views(s)[body];
+    let clip = projection(s, f64::from(w) / f64::from(h)) * (mv * local.extend(1.0));
+    let ndc = clip / clip.w;
+    let x = (ndc.x + 1.0) * 0.5 * w as f32;
+    let y = (1.0 - ndc.y) * 0.5 * h as f32;
+    (x as u32, y as u32)
+}
+
+#[test]
+fn favourable_atoms_are_blue_and_unfavourable_ones_red() {
+    let Some(gpu) = gpu() else { return };
+    let Some(mut s) = dhfr_trimethoprim() else {
+        return;
+    };
+    let crystal = s.step(&FrameInput::default(), 0.0).score.expect("scored");
+    // Pushed 1.6 Å into the pocket's wall, some atoms clash: unfavourable.
+    let mut clash = None;
+    for d in [
+        DVec3::X,
+        DVec3::Y,
+        DVec3::Z,
+        -DVec3::X,
+        -DVec3::Y,
+        -DVec3::Z,
+    ] {
+        let sc = move_drug(&mut s, d * 1.6).expect("moved");
+        move_drug(&mut s, -d * 1.6);
+        if sc.score.atoms.iter().any(|a| a.inter > 0.4) {
+            clash = Some((d * 1.6, sc));
+            break;
+        }
+    }
+    let (push, clashing) = clash.expect("some push makes an atom clash");
+    for (favourable, score, at) in [(true, crystal, DVec3::ZERO), (false, clashing, push)] {
+        move_drug(&mut s, at);
+        let (w, h) = (400u32, 300u32);
+        let mut off = Offscreen::new(&gpu, &s, w, h).expect("target");
+        let changes = ContributionColors::default().update(Some(&score));
+        let before = off.spheres.upload_stats().color_bytes;
+        let n = off.spheres.set_colors(&gpu.queue, &changes);
+        assert_eq!(n, changes.len());
+        assert!(off.spheres.upload_stats().color_bytes - before <= 32 * n as u64);
+        // The same colours again upload nothing.
+        assert_eq!(off.spheres.set_colors(&gpu.queue, &changes), 0);
+        // Pull the drug 30 Å towards the eye (keeping its colours) so that
+        // no receptor atom hides it.
+        s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
+        s.step(
+            &FrameInput::nudged(DVec3::new(0.0, 0.0, 30.0), DVec3::ZERO),
+            0.0,
+        );
+        s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
+        // If the atoms sought face away, turn the drug half a turn about
+        // the screen's vertical (its colours stay).
+        if visible_atom(&s, &score, favourable).is_none() {
+            let up = s.camera().rotation.conjugate() * DVec3::Y;
+            s.step(
+                &FrameInput::with_commands(&[Command::MoveBy {
+                    translate: DVec3::ZERO,
+                    axis: up,
+                    degrees: 180.0,
+                }]),
+                0.0,
+            );
+        }
+        let Some((atom, level)) = visible_atom(&s, &score, favourable) else {
+            let l: Vec<_> = score.drug_atoms().collect();
+            panic!("no visible atom (favourable {favourable}): {l:?}");
+        };
+        assert_eq!(off.spheres.color_of(1, atom), Some(level_color(level)));
+        let params = ViewParams {
+            cues: Cues::parse("none").expect("cues"),
+            ..ViewParams::default()
+        };
+        let img = off.render(&gpu, &s, &params).expect("render");
+        let local = s.bodies()[1].molecule.local[atom];
+        let (x, y) = project(&s, 1, local, w, h);
+        let px = img.pixel(x, y).expect("in the image");
+        let (r, g, b) = (i32::from(px[0]), i32::from(px[1]), i32::from(px[2]));
+        if favourable {
+            assert!(
+                b >= r + 20 && g >= r,
+                "atom {atom} (step {level}) at ({x},{y}) is {px:?}, not blue"
+            );
+        } else {
+            // Red blended with white: green and blue equal, red above.
+            assert!(
+                r >= b + 20 && (g - b).abs() <= 8,
+                "atom {atom} (step {level}) at ({x},{y}) is {px:?}, not red"
+            );
+        }
+        // Back to the crystal pose for the next case.
+        let home = s.bodies()[1].loaded;
+        let now = s.bodies()[1].pose;
+        move_drug(&mut s, home.translation - now.translation);
+    }
+}
