@@ -1,10 +1,10 @@
 //! The connected controllers and what they ask for, from a stream of raw
 //! events: connect, disconnect, an axis or button value.
 //!
-//! The device layer ([`super::gamepads`]) only translates its events
-//! into [`RawEvent`]s; everything after that is here and pure, so tests drive
-//! it with synthetic streams. Devices are kept in id order and grouped into
-//! boxes by their profile (a gamepad is a box, flight sticks pair up); each
+//! The device layer (`input::gamepads`, in the window's build) only
+//! translates its events into [`RawEvent`]s; everything after that is here
+//! and pure, so tests drive it with synthetic streams. Devices are kept in
+//! id order and grouped into boxes by their profile (a gamepad is a box, flight sticks pair up); each
 //! box's velocity comes from [`JoystickMap::box_velocity`]. With one box
 //! (the default) every box moves what the session's mode says; with two
 //! boxes (`--two-boxes`) the first moves the view and the second the
