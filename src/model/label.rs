@@ -1,8 +1,8 @@
 //! Short text kept inline: the atom, residue, chain, insertion-code and
 //! element labels of every atom ([`super::AtomInfo`]).
 //!
-//! A 272k-atom structure has 272k of each; as `String`s they took 24 bytes
-//! each plus a heap block, more than everything else an atom holds. A
+//! A 272k-atom structure has 272k of each; as `String`s they would take 24
+//! bytes each plus a heap block, more than everything else an atom holds. A
 //! [`Label<N>`] is `N` bytes, in place, padded with NUL bytes, and reads as
 //! a `&str` wherever one is wanted (it derefs to `str`, prints with
 //! `Display`, compares with `str` and `String`, serialises as a string).
