@@ -284,8 +284,11 @@ fn types_charges_and_torsions_agree_with_vina() {
             None => from_pdb.expect("ligand"),
         };
 
-        // The drug: every heavy atom typed as Vina types it.
+        // The drug: every heavy atom typed as Vina types it, with nothing
+        // to warn about (a bond a PDB file's CONECT records state is not
+        // perceived a second time).
         let chem = drug.chemistry();
+        assert!(chem.warnings.is_empty(), "{id}: {:?}", chem.warnings);
         let index = by_position(&drug);
         let mut lig = Tally {
             agree: 0,

@@ -410,12 +410,18 @@ fn perceive_by_distance(
     if found.is_empty() {
         return;
     }
-    // Cap valences: drop an over-bonded atom's longest perceived bonds.
+    // Cap valences: drop an over-bonded atom's longest perceived bonds. A
+    // pair already bonded (by a template or the file's CONECT records) is
+    // that bond, not another one.
+    let mut known: Vec<(u32, u32)> = bonds.iter().map(|b| (b.a.min(b.b), b.a.max(b.b))).collect();
+    known.sort_unstable();
+    known.dedup();
     let mut count = vec![0usize; atoms.len()];
-    for b in bonds.iter() {
-        count[b.a as usize] += 1;
-        count[b.b as usize] += 1;
+    for &(a, b) in &known {
+        count[a as usize] += 1;
+        count[b as usize] += 1;
     }
+    found.retain(|&(a, b, _)| known.binary_search(&(a, b)).is_err());
     found.sort_by(|x, y| x.2.total_cmp(&y.2).then((x.0, x.1).cmp(&(y.0, y.1))));
     for (a, b, d) in found {
         let (ea, eb) = (&atoms[a as usize].element, &atoms[b as usize].element);
