@@ -395,8 +395,9 @@ fn vina_rows(data: &Path, reps: usize) -> String {
 
 /// Runs `n` calls of `what` (`rigid_maps`, `maps`, `exact_gradient` or
 /// `exact`) on the DHFR setup at the crystal pose, with maps over a small
-/// box: for counting instructions under callgrind, where the machine is
-/// too busy to time (`n` = 0 gives the setup's count to subtract).
+/// box, or `n` builds of the 24 Å maps on one thread (`build`): for
+/// counting instructions under callgrind, where the machine is too busy to
+/// time (`n` = 0 gives the setup's count to subtract).
 pub fn count(data: &Path, what: &str, n: usize) {
     let Some(s) = dhfr(data) else {
         return;
@@ -415,6 +416,9 @@ pub fn count(data: &Path, what: &str, n: usize) {
             }
             "maps" => {
                 black_box(energy_gradient(&field, lig, c, &mut ws, &mut g));
+            }
+            "build" => {
+                black_box(s.maps(c, SPACING, 1));
             }
             "exact_gradient" => {
                 black_box(energy_gradient(&exact, lig, c, &mut ws, &mut g));

@@ -12,8 +12,12 @@
 //! the box is never penalised or clamped, only slower.
 //!
 //! Building visits each receptor atom near the box once and adds its table
-//! values to the lattice points within 8 Å of it, row by row (x fastest),
-//! on as many threads as the machine has, each owning a slab of z-planes;
+//! values to the lattice points within 8 Å of it, row by row (x fastest):
+//! the maps are built interleaved (every mapped type's value of a point
+//! side by side, read from a per-receptor-type table laid out the same way,
+//! so one point costs one table row and one vector add), then split per
+//! type; on as many threads as the machine has, each owning a slab of
+//! z-planes;
 //! [`MapsJob`] runs the whole build on a background thread.
 
 use std::sync::Arc;
@@ -25,7 +29,7 @@ use super::exact::Exact;
 use super::field::Field;
 use super::function::{CUTOFF, CUTOFF2, Scoring};
 use super::receptor::Receptor;
-use super::table::{Row, Table, index};
+use super::table::{Row, STRIDE, Table, index};
 use crate::chem::XsType;
 
 /// Vina's default lattice spacing, Å.
@@ -230,15 +234,17 @@ pub struct Maps {
     values: Vec<Vec<f32>>,
 }
 
-/// Adds receptor atom `a`'s table values to the maps' z-planes `z0..z1`
-/// (the slices hold exactly those planes).
-fn add_atom(
+/// Adds a receptor atom at `p` to the interleaved maps' z-planes `z0..z1`
+/// (`out` holds exactly those planes, `W` values per point): at each point
+/// within 8 Å, the `W` values of `table` (the atom's type against each
+/// mapped type, zero-padded to `W`, contiguous per sample) at the point's
+/// sample.
+fn add_atom<const W: usize>(
     lattice: &Lattice,
-    z0: usize,
-    z1: usize,
+    (z0, z1): (usize, usize),
     p: DVec3,
-    rows: &[&Row],
-    out: &mut [&mut [f32]],
+    table: &[[f32; W]],
+    out: &mut [[f32; W]],
     ks: &mut Vec<u32>,
 ) {
     let [nx, ny, _] = lattice.points;
@@ -276,27 +282,66 @@ fn add_atom(
                 continue;
             }
             let (xlo, xhi) = (xlo as usize, xhi as usize);
+            // Branch-free: a point at r² ≥ 64 reads sample 2048, all 0.
             ks.clear();
-            let mut last = xlo;
-            for x in xlo..=xhi {
+            ks.extend((xlo..=xhi).map(|x| {
                 let dx = lattice.origin.x + x as f64 * h - p.x;
-                let r2 = dx * dx + dyz2;
-                if r2 < CUTOFF2 {
-                    if ks.is_empty() {
-                        last = x;
-                    }
-                    ks.push(index(r2) as u32);
-                }
-            }
-            let row = ((z - z0) * ny + y) * nx + last;
-            for (map, table) in out.iter_mut().zip(rows) {
-                let dst = &mut map[row..row + ks.len()];
-                for (d, &k) in dst.iter_mut().zip(ks.iter()) {
-                    *d += table[k as usize] as f32;
+                index(dx * dx + dyz2) as u32
+            }));
+            let row = ((z - z0) * ny + y) * nx + xlo;
+            let dst = &mut out[row..row + ks.len()];
+            for (d, &k) in dst.iter_mut().zip(ks.iter()) {
+                let src = &table[k as usize];
+                for (a, &b) in d.iter_mut().zip(src) {
+                    *a += b;
                 }
             }
         }
     }
+}
+
+/// Builds the interleaved maps (`W` values per point) of the receptor atoms
+/// `near`, whose per-type sample tables are `tables`.
+fn build_interleaved<const W: usize>(
+    receptor: &Receptor,
+    lattice: &Lattice,
+    near: &[usize],
+    tables: &[Vec<f32>],
+    threads: usize,
+) -> Vec<f32> {
+    let tables: Vec<&[[f32; W]]> = tables
+        .iter()
+        .map(|t| {
+            let (rows, rest) = t.as_chunks::<W>();
+            debug_assert!(rest.is_empty());
+            rows
+        })
+        .collect();
+    let mut inter = vec![[0.0f32; W]; lattice.len()];
+    let [nx, ny, nz] = lattice.points;
+    let plane = nx * ny;
+    let threads = threads.clamp(1, nz);
+    let per = nz.div_ceil(threads);
+    let work = |z0: usize, z1: usize, out: &mut [[f32; W]]| {
+        let mut ks = Vec::new();
+        for &j in near {
+            let tb = tables[receptor.xs[j].index()];
+            add_atom(lattice, (z0, z1), receptor.positions[j], tb, out, &mut ks);
+        }
+    };
+    if threads == 1 {
+        work(0, nz, &mut inter);
+    } else {
+        // Each thread: its own z-planes.
+        std::thread::scope(|s| {
+            for (c, out) in inter.chunks_mut(per * plane).enumerate() {
+                let z0 = c * per;
+                let z1 = (z0 + per).min(nz);
+                s.spawn(move || work(z0, z1, out));
+            }
+        });
+    }
+    inter.into_flattened()
 }
 
 impl Maps {
@@ -329,55 +374,35 @@ impl Maps {
                 p.cmpge(lo).all() && p.cmple(hi).all()
             })
             .collect();
-        let mut values: Vec<Vec<f32>> = kinds.iter().map(|_| vec![0.0f32; lattice.len()]).collect();
-        let [nx, ny, nz] = lattice.points;
-        let plane = nx * ny;
-        let threads = threads.clamp(1, nz);
-        let per = nz.div_ceil(threads);
-        // Each thread: its own z-planes of every map.
-        let mut jobs: Vec<(usize, usize, Vec<&mut [f32]>)> = Vec::new();
-        {
-            let mut rests: Vec<&mut [f32]> = values.iter_mut().map(|v| v.as_mut_slice()).collect();
-            let mut z = 0;
-            while z < nz {
-                let z1 = (z + per).min(nz);
-                let mut mine = Vec::with_capacity(rests.len());
-                let mut next = Vec::with_capacity(rests.len());
-                for r in rests {
-                    let (a, b) = r.split_at_mut((z1 - z) * plane);
-                    mine.push(a);
-                    next.push(b);
+        // Values per point, padded to a multiple of 4 lanes.
+        let w = kinds.len().div_ceil(4).max(1) * 4;
+        // Per receptor type, each sample's values against every mapped
+        // type, contiguous: one cache line per point and atom.
+        let mut tables: Vec<Vec<f32>> = vec![Vec::new(); XsType::ALL.len()];
+        for &j in &near {
+            let b = receptor.xs[j];
+            let tb = &mut tables[b.index()];
+            if tb.is_empty() {
+                let rows: Vec<&Row> = kinds.iter().map(|&a| table.fast_row(a, b)).collect();
+                tb.resize(STRIDE * w, 0.0);
+                for (k, v) in tb.chunks_exact_mut(w).enumerate() {
+                    for (x, row) in v.iter_mut().zip(&rows) {
+                        *x = row[k] as f32;
+                    }
                 }
-                rests = next;
-                jobs.push((z, z1, mine));
-                z = z1;
             }
         }
-        let work = |(z0, z1, mut out): (usize, usize, Vec<&mut [f32]>)| {
-            let mut ks = Vec::new();
-            for &j in &near {
-                let b = receptor.xs[j];
-                let rows: Vec<&Row> = kinds.iter().map(|&t| table.fast_row(t, b)).collect();
-                add_atom(
-                    &lattice,
-                    z0,
-                    z1,
-                    receptor.positions[j],
-                    &rows,
-                    &mut out,
-                    &mut ks,
-                );
-            }
+        let (l, n) = (&lattice, &near[..]);
+        let inter = match w {
+            4 => build_interleaved::<4>(receptor, l, n, &tables, threads),
+            8 => build_interleaved::<8>(receptor, l, n, &tables, threads),
+            12 => build_interleaved::<12>(receptor, l, n, &tables, threads),
+            16 => build_interleaved::<16>(receptor, l, n, &tables, threads),
+            _ => build_interleaved::<20>(receptor, l, n, &tables, threads),
         };
-        if jobs.len() == 1 {
-            jobs.into_iter().for_each(work);
-        } else {
-            std::thread::scope(|s| {
-                for job in jobs {
-                    s.spawn(move || work(job));
-                }
-            });
-        }
+        let values: Vec<Vec<f32>> = (0..kinds.len())
+            .map(|s| inter.iter().skip(s).step_by(w).copied().collect())
+            .collect();
         Ok(Self {
             scoring,
             lattice,
