@@ -12,7 +12,7 @@
 //!   of receptors of 1.3k to 272k atoms.
 //!
 //! `cargo bench --bench score -- --report` instead prints the benchmark
-//! report's scoring section (`score/section.rs`, which also times AutoDock
+//! report's scoring section (`bump_testkit::score_bench`, which also times AutoDock
 //! Vina when Python has its package); `--report --quick` a short one;
 //! `--count WHAT N` runs N calls of one evaluation for callgrind.
 //! Data come from `../shared/pdb`; without it nothing runs.
@@ -29,8 +29,7 @@ use bump::score::{
 };
 use criterion::Criterion;
 
-#[path = "score/section.rs"]
-mod section;
+use bump_testkit::score_bench as section;
 use section::{SCALING, SPACING, Setup, at_surface, dhfr, perturbed, threads};
 
 fn data_dir() -> Option<PathBuf> {

@@ -26,6 +26,7 @@ mod frames;
 mod layers;
 mod load;
 mod scaling;
+mod score;
 mod svg;
 mod table1;
 mod timing;
@@ -45,6 +46,7 @@ const SECTIONS: &[&Section] = &[
     &table1::SECTION,
     &frames::SECTION,
     &load::SECTION,
+    &score::SECTION,
 ];
 
 /// The report's first line; an existing file that does not start with it

@@ -10,6 +10,7 @@
 //! - [`surface`]: patches of a receptor's own surface, the drugs of the
 //!   scaling benchmarks.
 //! - [`parry`]: parry3d doing move-to-touch, the independent baseline.
+//! - [`score_bench`]: the scoring's benchmark setups and report section.
 //!
 //! A dev-dependency of bump only: the product does not link parry3d.
 
@@ -18,6 +19,7 @@ pub mod molecules;
 pub mod oracle;
 pub mod parry;
 pub mod rng;
+pub mod score_bench;
 pub mod surface;
 
 pub use data::shared_pdb;

@@ -1,6 +1,6 @@
-//! The scoring's section of the benchmark report, self-contained: its
-//! setups (shared with `benches/score.rs`'s criterion groups) and
-//! [`markdown`], which measures and returns the section's Markdown.
+//! The scoring's benchmarks: the setups that `benches/score.rs`'s
+//! criterion groups and the report's scoring section share, and
+//! [`markdown`], which measures and returns that section's Markdown.
 //!
 //! - Trimethoprim (TOP) in E. coli DHFR (`6xg5_tmp_prepared.pdb`): Vina's
 //!   energy with the gradient (force, torque, torsion torques) from maps
@@ -358,9 +358,10 @@ pub fn markdown(data: &Path, quick: bool) -> String {
 }
 
 /// AutoDock Vina 1.2's own times on this machine, in the same run, from
-/// `vina_times.py` beside this file (when Python has the `vina` package).
+/// `benches/score/vina_times.py` (when Python has the `vina` package).
 fn vina_rows(data: &Path, reps: usize) -> String {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // The repository's root, two levels above this crate.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let out = std::process::Command::new("python3")
         .arg(dir.join("benches/score/vina_times.py"))
         .arg(data.join("6xg5_tmp_prepared.pdb"))
