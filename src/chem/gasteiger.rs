@@ -175,7 +175,6 @@ fn npl_or_nam(
 }
 
 /// Gasteiger charges of `mol`.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn charges(
     mol: &Molecule,
     bonds: &[Bond],
@@ -185,6 +184,23 @@ pub(crate) fn charges(
     hydro: &Hydro,
     warn: &mut Warnings,
 ) -> Charges {
+    let (params, h_parent) = parameters(mol, bonds, adj, aromatic, hyb, hydro);
+    let (piece, bad_piece) = pieces_without_parameters(mol, adj, &params, warn);
+    let q = equalise(mol.len(), bonds, &params, &h_parent, &piece, &bad_piece);
+    gather(mol, hydro, &h_parent, &q)
+}
+
+/// The parameters of each atom (`None` where the table has none), the
+/// heavy atoms' first, then the implicit hydrogens, hydro.count[i] of them
+/// per atom, each with its parent in the second list.
+fn parameters(
+    mol: &Molecule,
+    bonds: &[Bond],
+    adj: &Adjacency,
+    aromatic: &[bool],
+    hyb: &[Hybridisation],
+    hydro: &Hydro,
+) -> (Vec<Option<[f64; 3]>>, Vec<u32>) {
     let n = mol.len();
     let elem = |j: usize| mol.atoms[j].element.as_str();
     let total_degree = |j: usize| adj.degree(j) + usize::from(hydro.count[j]);
@@ -196,8 +212,6 @@ pub(crate) fn charges(
             in_ring_atom[b.b as usize] = true;
         }
     }
-    // Parameters; hydrogens are appended after the heavy atoms, each
-    // bonded to its parent, hydro.count[i] of them per atom.
     let mut params: Vec<Option<[f64; 3]>> = Vec::with_capacity(n * 2);
     for (i, &h) in hyb.iter().enumerate().take(n) {
         let free_oxygens = adj
@@ -228,7 +242,20 @@ pub(crate) fn charges(
             params.push(Some(abc(HYDROGEN)));
         }
     }
-    // Pieces with an atom lacking parameters get no charges.
+    (params, h_parent)
+}
+
+/// Each heavy atom's piece (connected part) and, per piece, whether an
+/// atom of it lacks parameters: such pieces get no charges, with a warning
+/// per element.
+fn pieces_without_parameters(
+    mol: &Molecule,
+    adj: &Adjacency,
+    params: &[Option<[f64; 3]>],
+    warn: &mut Warnings,
+) -> (Vec<u32>, Vec<bool>) {
+    let n = mol.len();
+    let elem = |j: usize| mol.atoms[j].element.as_str();
     let mut piece = vec![u32::MAX; n];
     let mut bad_piece: Vec<bool> = Vec::new();
     let mut missing: BTreeMap<String, usize> = BTreeMap::new();
@@ -265,7 +292,21 @@ pub(crate) fn charges(
             if *count == 1 { "s" } else { "" },
         ));
     }
+    (piece, bad_piece)
+}
 
+/// The damped iterations of partial equalisation of orbital
+/// electronegativity over the bonds (heavy, then to the `n` heavy atoms'
+/// implicit hydrogens) of the pieces with parameters: the charge of every
+/// atom of `params`, heavy atoms first.
+fn equalise(
+    n: usize,
+    bonds: &[Bond],
+    params: &[Option<[f64; 3]>],
+    h_parent: &[u32],
+    piece: &[u32],
+    bad_piece: &[bool],
+) -> Vec<f64> {
     let total = params.len();
     let mut q = vec![0.0f64; total];
     let mut chi = vec![0.0f64; total];
@@ -304,6 +345,15 @@ pub(crate) fn charges(
             q[t] += alpha * delta;
         }
     }
+    q
+}
+
+/// The charges as the atom types use them: a carbon's implicit hydrogens
+/// merged into it, a polar atom's kept apart, and the molecule's kept
+/// hydrogens given their parent's first implicit slots' charges.
+fn gather(mol: &Molecule, hydro: &Hydro, h_parent: &[u32], q: &[f64]) -> Charges {
+    let n = mol.len();
+    let elem = |j: usize| mol.atoms[j].element.as_str();
     let mut heavy: Vec<f32> = q[..n].iter().map(|&x| x as f32).collect();
     let mut polar_h = vec![0.0f32; n];
     // Kept hydrogens take the charges of their parent's first slots.

@@ -69,12 +69,11 @@ pub(crate) fn assign_orders(
     warn: &mut Warnings,
 ) {
     let n = mol.len();
-    let bonds = &conn.bonds;
     // Atoms whose bonds need orders: an unspecified or aromatic bond.
     let mut open = vec![false; n];
     let mut any = false;
-    for b in bonds {
-        if matches!(b.order, BondOrder::Unspecified | BondOrder::Aromatic) {
+    for b in &conn.bonds {
+        if is_free(b.order) {
             open[b.a as usize] = true;
             open[b.b as usize] = true;
             any = true;
@@ -83,45 +82,123 @@ pub(crate) fn assign_orders(
     if !any {
         return;
     }
-    let pos = &mol.local;
-    let elem = |i: usize| mol.atoms[i].element.as_str();
-    // Flat rings among the open atoms.
-    let rings = smallest_rings(adj, bonds, in_ring, &|i| open[i] && explicit_h[i].is_none());
-    let mut in_flat_ring = vec![0u8; n]; // 5 for an atom of a flat five-ring
-    for ring in &rings {
-        if ring.len() == 5 && ring_deviation(ring, pos) <= FLAT_RING {
-            for &i in ring {
-                let s = &mut in_flat_ring[i as usize];
-                if *s == 0 || (ring.len() as u8) < *s {
-                    *s = ring.len() as u8;
+    let shapes = RingShapes::new(mol, conn, adj, in_ring, &open, explicit_h);
+    let mut need = needs(mol, conn, adj, &open, explicit_h, &shapes);
+    // Bonds that may take a higher order: unspecified or aromatic.
+    let mut order: Vec<BondOrder> = conn.bonds.iter().map(|b| b.order).collect();
+    hypervalent_doubles(mol, adj, &open, &mut need, &mut order);
+    triple_bonds(conn, &mut need, &mut order);
+    match_doubles(mol, adj, &need, &mut order, warn);
+    for (k, b) in conn.bonds.iter_mut().enumerate() {
+        b.order = match order[k] {
+            BondOrder::Unspecified | BondOrder::Aromatic => BondOrder::Single,
+            o => o,
+        };
+    }
+}
+
+/// True for an order that may still be raised: unspecified or aromatic.
+fn is_free(o: BondOrder) -> bool {
+    matches!(o, BondOrder::Unspecified | BondOrder::Aromatic)
+}
+
+/// True when atom `j` is an oxygen with one neighbour.
+fn is_terminal_o(mol: &Molecule, adj: &Adjacency, j: usize) -> bool {
+    adj.degree(j) == 1 && mol.atoms[j].element.as_str() == "O"
+}
+
+/// How many terminal oxygens atom `i` carries.
+fn terminal_oxygens(mol: &Molecule, adj: &Adjacency, i: usize) -> usize {
+    adj.of(i)
+        .iter()
+        .filter(|&&(j, _)| is_terminal_o(mol, adj, j as usize))
+        .count()
+}
+
+/// What the open atoms' rings say about their shape.
+struct RingShapes {
+    /// 5 for an atom of a flat five-ring, else 0.
+    in_flat_ring: Vec<u8>,
+    /// The atom is in a six-ring.
+    in_six: Vec<bool>,
+    /// The atom is in a six-ring that is trigonal throughout.
+    ring_trigonal: Vec<bool>,
+}
+
+impl RingShapes {
+    /// The smallest rings among the open atoms without hydrogens in the
+    /// file, and the shapes they give their atoms.
+    fn new(
+        mol: &Molecule,
+        conn: &Connection,
+        adj: &Adjacency,
+        in_ring: &[bool],
+        open: &[bool],
+        explicit_h: &[Option<u8>],
+    ) -> Self {
+        let n = mol.len();
+        let pos = &mol.local;
+        // Flat rings among the open atoms.
+        let rings = smallest_rings(adj, &conn.bonds, in_ring, &|i| {
+            open[i] && explicit_h[i].is_none()
+        });
+        let mut in_flat_ring = vec![0u8; n];
+        for ring in &rings {
+            if ring.len() == 5 && ring_deviation(ring, pos) <= FLAT_RING {
+                for &i in ring {
+                    let s = &mut in_flat_ring[i as usize];
+                    if *s == 0 || (ring.len() as u8) < *s {
+                        *s = ring.len() as u8;
+                    }
                 }
             }
         }
-    }
 
-    let mut in_six = vec![false; n];
-    for ring in rings.iter().filter(|r| r.len() == 6) {
-        for &i in ring {
-            in_six[i as usize] = true;
-        }
-    }
-    // Six-rings most of whose atoms look trigonal are trigonal throughout:
-    // low-resolution structures bend single angles out of range.
-    let mut ring_trigonal = vec![false; n];
-    for ring in rings.iter().filter(|r| r.len() == 6) {
-        let looks = ring
-            .iter()
-            .filter(|&&i| {
-                let row = adj.of(i as usize);
-                row.len() <= 3 && mean_angle(i as usize, row, pos) > TRIGONAL
-            })
-            .count();
-        if looks >= 4 && ring_deviation(ring, pos) <= 2.0 * FLAT_RING {
+        let mut in_six = vec![false; n];
+        for ring in rings.iter().filter(|r| r.len() == 6) {
             for &i in ring {
-                ring_trigonal[i as usize] = true;
+                in_six[i as usize] = true;
             }
         }
+        // Six-rings most of whose atoms look trigonal are trigonal throughout:
+        // low-resolution structures bend single angles out of range.
+        let mut ring_trigonal = vec![false; n];
+        for ring in rings.iter().filter(|r| r.len() == 6) {
+            let looks = ring
+                .iter()
+                .filter(|&&i| {
+                    let row = adj.of(i as usize);
+                    row.len() <= 3 && mean_angle(i as usize, row, pos) > TRIGONAL
+                })
+                .count();
+            if looks >= 4 && ring_deviation(ring, pos) <= 2.0 * FLAT_RING {
+                for &i in ring {
+                    ring_trigonal[i as usize] = true;
+                }
+            }
+        }
+        Self {
+            in_flat_ring,
+            in_six,
+            ring_trigonal,
+        }
     }
+}
+
+/// The π bonds each open atom needs: from its valence where the file has
+/// its hydrogens, from the aromatic bonds the file marks, else from its
+/// geometry.
+fn needs(
+    mol: &Molecule,
+    conn: &Connection,
+    adj: &Adjacency,
+    open: &[bool],
+    explicit_h: &[Option<u8>],
+    shapes: &RingShapes,
+) -> Vec<Need> {
+    let n = mol.len();
+    let bonds = &conn.bonds;
+    let pos = &mol.local;
     let mut need = vec![Need::default(); n];
     for i in 0..n {
         if !open[i] {
@@ -140,30 +217,35 @@ pub(crate) fn assign_orders(
             .iter()
             .any(|&(_, k)| bonds[k as usize].order == BondOrder::Aromatic);
         let deg = row.len() as u32;
-        let e = elem(i);
+        let e = mol.atoms[i].element.as_str();
         need[i] = match explicit_h[i] {
             Some(h) => from_valence(e, conn.charges[i], deg, u32::from(h), stated, row, mol),
             None if has_aromatic => aromatic_need(e, deg, stated),
             None => {
-                let flat = if ring_trigonal[i] { 6 } else { in_flat_ring[i] };
-                from_geometry(i, e, row, pos, adj, mol, flat, in_six[i], stated)
+                let flat = if shapes.ring_trigonal[i] {
+                    6
+                } else {
+                    shapes.in_flat_ring[i]
+                };
+                from_geometry(i, e, row, pos, adj, mol, flat, shapes.in_six[i], stated)
             }
         };
     }
+    need
+}
 
-    // Bonds that may take a higher order: unspecified or aromatic.
-    let mut order: Vec<BondOrder> = bonds.iter().map(|b| b.order).collect();
-    let free = |o: BondOrder| matches!(o, BondOrder::Unspecified | BondOrder::Aromatic);
-    let terminal_o = |j: usize| adj.degree(j) == 1 && elem(j) == "O";
-    let terminal_oxygens = |i: usize| {
-        adj.of(i)
-            .iter()
-            .filter(|&&(j, _)| terminal_o(j as usize))
-            .count()
-    };
-
-    // Hypervalent S and P: double bonds to their shortest terminal O/S first.
-    for i in 0..n {
+/// Hypervalent S and P: double bonds to their shortest terminal O/S/N
+/// first (an acid's terminal oxygens in file order).
+fn hypervalent_doubles(
+    mol: &Molecule,
+    adj: &Adjacency,
+    open: &[bool],
+    need: &mut [Need],
+    order: &mut [BondOrder],
+) {
+    let pos = &mol.local;
+    let elem = |i: usize| mol.atoms[i].element.as_str();
+    for i in 0..mol.len() {
         if !open[i] || !matches!(elem(i), "S" | "P") || need[i].count == 0 {
             continue;
         }
@@ -171,7 +253,7 @@ pub(crate) fn assign_orders(
             .of(i)
             .iter()
             .filter(|&&(j, k)| {
-                free(order[k as usize])
+                is_free(order[k as usize])
                     && matches!(elem(j as usize), "O" | "S" | "N")
                     && adj.degree(j as usize) == 1
                     && need[j as usize].count > 0
@@ -179,10 +261,10 @@ pub(crate) fn assign_orders(
             .map(|&(j, k)| (pos[i].distance(pos[j as usize]), j, k))
             .collect();
         // An acid's terminal oxygens take the double bonds in file order,
-        // as the carboxylic acids' do below.
-        if terminal_oxygens(i) > 1 {
+        // as the carboxylic acids' do in the matching.
+        if terminal_oxygens(mol, adj, i) > 1 {
             for t in &mut terminal {
-                if terminal_o(t.1 as usize) {
+                if is_terminal_o(mol, adj, t.1 as usize) {
                     t.0 = f32::MIN;
                 }
             }
@@ -197,65 +279,82 @@ pub(crate) fn assign_orders(
             need[j as usize].count = 0;
         }
     }
+}
 
-    // Triple bonds between pairs of atoms that need two.
-    for (k, b) in bonds.iter().enumerate() {
+/// Triple bonds between pairs of atoms that need two; then an atom still
+/// wanting two (a cumulene centre, a lone nitrile carbon) takes what the
+/// matching gives it, one at a time.
+fn triple_bonds(conn: &Connection, need: &mut [Need], order: &mut [BondOrder]) {
+    for (k, b) in conn.bonds.iter().enumerate() {
         let (a, c) = (b.a as usize, b.b as usize);
-        if free(order[k]) && need[a].count >= 2 && need[c].count >= 2 {
+        if is_free(order[k]) && need[a].count >= 2 && need[c].count >= 2 {
             order[k] = BondOrder::Triple;
             need[a].count -= 2;
             need[c].count -= 2;
         }
     }
-    // An atom still wanting two (a cumulene centre, a lone nitrile carbon)
-    // takes what the matching gives it, one at a time.
-    for nd in &mut need {
+    for nd in need.iter_mut() {
         nd.count = nd.count.min(1);
     }
+}
 
-    // Double bonds: a matching over the bonds between atoms that want one.
-    let mut mate: Vec<Option<(u32, u32)>> = vec![None; n]; // (partner, bond)
-    let terminal_o = |j: usize| adj.degree(j) == 1 && elem(j) == "O";
-    let terminal_oxygens = |i: usize| {
-        adj.of(i)
-            .iter()
-            .filter(|&&(j, _)| terminal_o(j as usize))
-            .count()
-    };
-    let candidates = |i: usize, order: &[BondOrder], need: &[Need]| -> Vec<(u32, u32)> {
-        let mut c: Vec<(f32, u32, u32)> = adj
-            .of(i)
-            .iter()
-            .filter(|&&(j, k)| free(order[k as usize]) && need[j as usize].count > 0)
-            .map(|&(j, k)| {
-                // Shortest relative to a single bond first.
-                let single = super::elements::covalent_radius(elem(i)).unwrap_or(0.76)
-                    + super::elements::covalent_radius(elem(j as usize)).unwrap_or(0.76);
-                let mut lj = pos[i].distance(pos[j as usize]) / single as f32;
-                if terminal_o(j as usize) {
-                    // A carbonyl beats an imine where the geometry cannot
-                    // tell them apart (an amide, a carboxylic acid).
-                    lj -= 0.04;
-                    // Between an acid's terminal oxygens (carboxylic,
-                    // phosphoric, sulfonic) the first in the file is the
-                    // double bond and the others carry the hydrogens: the
-                    // lengths are equal within a crystal structure's error,
-                    // and it is the choice a bond-order template (RDKit's,
-                    // which prepares the reference ligands) makes.
-                    if terminal_oxygens(i) > 1 {
-                        lj = f32::MIN;
-                    }
+/// The free bonds from atom `i` to atoms that want a π bond, shortest
+/// relative to a single bond first, as (partner, bond).
+fn candidates(
+    mol: &Molecule,
+    adj: &Adjacency,
+    i: usize,
+    order: &[BondOrder],
+    need: &[Need],
+) -> Vec<(u32, u32)> {
+    let pos = &mol.local;
+    let elem = |i: usize| mol.atoms[i].element.as_str();
+    let mut c: Vec<(f32, u32, u32)> = adj
+        .of(i)
+        .iter()
+        .filter(|&&(j, k)| is_free(order[k as usize]) && need[j as usize].count > 0)
+        .map(|&(j, k)| {
+            // Shortest relative to a single bond first.
+            let single = super::elements::covalent_radius(elem(i)).unwrap_or(0.76)
+                + super::elements::covalent_radius(elem(j as usize)).unwrap_or(0.76);
+            let mut lj = pos[i].distance(pos[j as usize]) / single as f32;
+            if is_terminal_o(mol, adj, j as usize) {
+                // A carbonyl beats an imine where the geometry cannot
+                // tell them apart (an amide, a carboxylic acid).
+                lj -= 0.04;
+                // Between an acid's terminal oxygens (carboxylic,
+                // phosphoric, sulfonic) the first in the file is the
+                // double bond and the others carry the hydrogens: the
+                // lengths are equal within a crystal structure's error,
+                // and it is the choice a bond-order template (RDKit's,
+                // which prepares the reference ligands) makes.
+                if terminal_oxygens(mol, adj, i) > 1 {
+                    lj = f32::MIN;
                 }
-                (lj, j, k)
-            })
-            .collect();
-        c.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        c.into_iter().map(|(_, j, k)| (j, k)).collect()
-    };
+            }
+            (lj, j, k)
+        })
+        .collect();
+    c.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    c.into_iter().map(|(_, j, k)| (j, k)).collect()
+}
+
+/// Double bonds: a matching over the bonds between atoms that want one,
+/// first among the atoms that must have one, then from those still without
+/// to any partner. An atom that must have one and gets none is warned of.
+fn match_doubles(
+    mol: &Molecule,
+    adj: &Adjacency,
+    need: &[Need],
+    order: &mut [BondOrder],
+    warn: &mut Warnings,
+) {
+    let n = mol.len();
+    let mut mate: Vec<Option<(u32, u32)>> = vec![None; n]; // (partner, bond)
     let adjacency: Vec<Vec<(u32, u32)>> = (0..n)
         .map(|i| {
             if need[i].count > 0 {
-                candidates(i, &order, &need)
+                candidates(mol, adj, i, order, need)
             } else {
                 Vec::new()
             }
@@ -279,7 +378,7 @@ pub(crate) fn assign_orders(
     for &i in &required {
         if mate[i].is_none() {
             let mut visited = vec![false; n];
-            augment(i, &required_only, &mut mate, &mut visited, &need);
+            augment(i, &required_only, &mut mate, &mut visited, need);
         }
     }
     // Phase 2: the rest of them, with any partner (a terminal O, a
@@ -287,7 +386,7 @@ pub(crate) fn assign_orders(
     for &i in &required {
         if mate[i].is_none() {
             let mut visited = vec![false; n];
-            augment(i, &adjacency, &mut mate, &mut visited, &need);
+            augment(i, &adjacency, &mut mate, &mut visited, need);
         }
     }
     for i in 0..n {
@@ -302,12 +401,6 @@ pub(crate) fn assign_orders(
                     .to_string(),
             );
         }
-    }
-    for (k, b) in conn.bonds.iter_mut().enumerate() {
-        b.order = match order[k] {
-            BondOrder::Unspecified | BondOrder::Aromatic => BondOrder::Single,
-            o => o,
-        };
     }
 }
 

@@ -10,10 +10,11 @@ use std::time::Instant;
 
 use anyhow::Context;
 use bump::model::Molecule;
+use bump::scene::Scene;
 use bump::score::coulomb;
 use bump::score::maps::{DEFAULT_SPACING, MapBox, Maps};
 use bump::score::{
-    Conformation, Evaluator, Exact, Field, Ligand, MapField, Receptor, Scoring, Workspace,
+    Conformation, Evaluator, Exact, Field, Ligand, MapField, Receptor, Score, Scoring, Workspace,
     energies, prepare, score,
 };
 use clap::Args;
@@ -280,46 +281,8 @@ pub fn run(args: &ScoreArgs) -> anyhow::Result<()> {
     let (_, us) = super::scene_args::timed(101, || energies(&*field, &p.lig, &p.start, &mut ws))?;
     let s = score(&*field, args.evaluator, &exact, &p.lig, &p.start);
     let scene = &p.loaded.scene;
-    let share: std::collections::HashMap<u32, (&'static str, f64)> = s
-        .atoms
-        .iter()
-        .map(|a| (a.atom, (a.xs.name(), a.inter)))
-        .collect();
-    let atoms = (0..scene.drug.len() as u32)
-        .map(|i| {
-            let id = AtomId::of(&scene.drug, i);
-            let (t, e) = share.get(&i).map_or((None, 0.0), |&(t, e)| (Some(t), e));
-            AtomReport {
-                serial: id.serial,
-                name: id.name,
-                element: id.element,
-                vina_type: t,
-                contribution: e,
-            }
-        })
-        .collect();
-    let hbonds = s
-        .hbonds
-        .iter()
-        .map(|h| {
-            let (d, r) = (
-                AtomId::of(&scene.drug, h.drug_atom),
-                AtomId::of(&scene.receptor, h.receptor_atom),
-            );
-            let (side, donor, acceptor) = match h.donor {
-                bump::score::Donor::Drug => ("drug", d, r),
-                bump::score::Donor::Receptor => ("receptor", r, d),
-                bump::score::Donor::Either => ("either", d, r),
-            };
-            HBondReport {
-                donor_side: side,
-                donor,
-                acceptor,
-                distance: h.distance,
-                energy: h.energy,
-            }
-        })
-        .collect();
+    let atoms = atom_reports(&scene.drug, &s);
+    let hbonds = hbond_reports(scene, &s);
     let turn = c.turn.unwrap_or(Turn {
         axis: DVec3::Z,
         degrees: 0.0,
@@ -364,6 +327,61 @@ pub fn run(args: &ScoreArgs) -> anyhow::Result<()> {
         outln!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
     }
+    print_report(&report);
+    Ok(())
+}
+
+/// Each drug atom with its Vina type (where it has one) and its share of
+/// the intermolecular score.
+fn atom_reports(drug: &Molecule, s: &Score) -> Vec<AtomReport> {
+    let share: std::collections::HashMap<u32, (&'static str, f64)> = s
+        .atoms
+        .iter()
+        .map(|a| (a.atom, (a.xs.name(), a.inter)))
+        .collect();
+    (0..drug.len() as u32)
+        .map(|i| {
+            let id = AtomId::of(drug, i);
+            let (t, e) = share.get(&i).map_or((None, 0.0), |&(t, e)| (Some(t), e));
+            AtomReport {
+                serial: id.serial,
+                name: id.name,
+                element: id.element,
+                vina_type: t,
+                contribution: e,
+            }
+        })
+        .collect()
+}
+
+/// The score's hydrogen bonds, each with its donor and acceptor named.
+fn hbond_reports(scene: &Scene, s: &Score) -> Vec<HBondReport> {
+    s.hbonds
+        .iter()
+        .map(|h| {
+            let (d, r) = (
+                AtomId::of(&scene.drug, h.drug_atom),
+                AtomId::of(&scene.receptor, h.receptor_atom),
+            );
+            let (side, donor, acceptor) = match h.donor {
+                bump::score::Donor::Drug => ("drug", d, r),
+                bump::score::Donor::Receptor => ("receptor", r, d),
+                bump::score::Donor::Either => ("either", d, r),
+            };
+            HBondReport {
+                donor_side: side,
+                donor,
+                acceptor,
+                distance: h.distance,
+                energy: h.energy,
+            }
+        })
+        .collect()
+}
+
+/// Writes the report as text: the molecules, the score with its terms,
+/// the hydrogen bonds and each atom's contribution.
+fn print_report(report: &ScoreReport) {
     outln!(
         "receptor {} ({}), drug {} ({})",
         report.receptor.name,
@@ -419,5 +437,4 @@ pub fn run(args: &ScoreArgs) -> anyhow::Result<()> {
             a.contribution
         );
     }
-    Ok(())
 }
