@@ -56,6 +56,13 @@
 //! ([`Settled::escape_steps`]); from there the rule holds for every step. If the minimisation ends before the drug
 //! is out, the result's collisions are reported
 //! ([`Settled::end_collisions`]).
+//!
+//! # Why one module
+//! The minimiser and the checks of its steps share one working state (the
+//! drug's atoms, their clearances, the moving side of each bond, the
+//! conformation being tried), and each check is written for the steps the
+//! minimiser takes; apart, neither would be read alone. The module is
+//! longer than most for that reason; its tests follow it.
 
 use glam::{DMat3, DQuat, DVec3};
 
@@ -475,7 +482,42 @@ struct Run<'r, 'l, 'c> {
     sweeps: usize,
 }
 
-impl Run<'_, '_, '_> {
+impl<'r, 'l, 'c> Run<'r, 'l, 'c> {
+    /// A run of `lig` against `contacts`, nothing measured yet.
+    fn new(lig: &'l Ligand, contacts: &'r mut Contacts<'c>, opts: &SettleOptions) -> Self {
+        Run {
+            lig,
+            contacts,
+            opts: *opts,
+            atom_gap: Vec::new(),
+            pair_gap: Vec::new(),
+            frames: Vec::new(),
+            moving: (0..lig.torsions()).map(|k| moving_atoms(lig, k)).collect(),
+            xm: Vec::new(),
+            xb: Vec::new(),
+            refused: 0,
+            sweeps: 0,
+        }
+    }
+
+    /// The first step length tried along `p` from `x` (atoms at `xs`): no
+    /// atom travels more than the step cap, and while free, a step the
+    /// clearances prove clear (needing no sweep) is taken rather than a
+    /// longer one that would need one, unless it is far shorter.
+    fn first_alpha(&mut self, x: &Conformation, xs: &[DVec3], p: &[f64], free: bool) -> f64 {
+        let cap = if free { MAX_STEP } else { ESCAPE_STEP };
+        let full = stepped(x, p, 1.0);
+        let longest = self.travel(x, xs, &full).into_iter().fold(0.0, f64::max);
+        let mut alpha = if longest > cap { cap / longest } else { 1.0 };
+        if free {
+            let travel = self.travel(x, xs, &stepped(x, p, alpha));
+            let proved = self.proved_fraction(&travel);
+            if (PROVED_SHORTER..1.0).contains(&proved) {
+                alpha *= proved * (1.0 - 1e-9);
+            }
+        }
+        alpha
+    }
     /// A bound on each atom's travel along the path from `a` (atoms at
     /// `xa`) to `b`: the turns (arc = angle × distance to the axis,
     /// measured before any turn: parents turn first and carry their
@@ -639,19 +681,7 @@ pub fn settle<F: Field + ?Sized>(
     let before = energies(field, lig, start, &mut ws);
     let x0 = ws.positions.clone();
     let start_collisions = contacts.collisions(&x0);
-    let mut run = Run {
-        lig,
-        contacts,
-        opts: *opts,
-        atom_gap: Vec::new(),
-        pair_gap: Vec::new(),
-        frames: Vec::new(),
-        moving: (0..lig.torsions()).map(|k| moving_atoms(lig, k)).collect(),
-        xm: Vec::new(),
-        xb: Vec::new(),
-        refused: 0,
-        sweeps: 0,
-    };
+    let mut run = Run::new(lig, contacts, opts);
     let n = 6 + lig.torsions();
     let mut grad = Gradient::default();
     let mut x = start.clone();
@@ -695,32 +725,10 @@ pub fn settle<F: Field + ?Sized>(
     }
     let mut restarted = false;
     while steps < opts.max_steps {
-        let mut p: Vec<f64> = (0..n).map(|i| -dot(&h[i * n..(i + 1) * n], &g)).collect();
-        let mut pg = dot(&p, &g);
-        if pg >= 0.0 {
-            // Not a descent direction: restart from steepest descent.
-            h = identity(n);
-            p = g.iter().map(|v| -v).collect();
-            pg = dot(&p, &g);
-            if pg >= 0.0 {
-                break;
-            }
-        }
-        // No atom travels more than the step cap: α starts below 1 when the
-        // full step would go farther.
-        let cap = if free { MAX_STEP } else { ESCAPE_STEP };
-        let full = stepped(&x, &p, 1.0);
-        let longest = run.travel(&x, &xs, &full).into_iter().fold(0.0, f64::max);
-        let mut alpha = if longest > cap { cap / longest } else { 1.0 };
-        if free {
-            // A step the clearances prove clear needs no sweep: take it
-            // rather than a longer one that would, unless it is far shorter.
-            let travel = run.travel(&x, &xs, &stepped(&x, &p, alpha));
-            let proved = run.proved_fraction(&travel);
-            if (PROVED_SHORTER..1.0).contains(&proved) {
-                alpha *= proved * (1.0 - 1e-9);
-            }
-        }
+        let Some((p, pg)) = descent(&mut h, &g, n) else {
+            break;
+        };
+        let mut alpha = run.first_alpha(&x, &xs, &p, free);
         let mut accepted = None;
         for _ in 0..10 {
             let trial = stepped(&x, &p, alpha);
@@ -822,6 +830,21 @@ fn moving_atoms(lig: &Ligand, k: usize) -> Vec<u32> {
     (0..lig.len() as u32)
         .filter(|&i| below[lig.fragment_of[i as usize] as usize])
         .collect()
+}
+
+/// The quasi-Newton direction `-H g` and its slope `p · g`, or steepest
+/// descent (with `h` reset) when that is not a descent direction; `None`
+/// when neither descends.
+fn descent(h: &mut Vec<f64>, g: &[f64], n: usize) -> Option<(Vec<f64>, f64)> {
+    let p: Vec<f64> = (0..n).map(|i| -dot(&h[i * n..(i + 1) * n], g)).collect();
+    let pg = dot(&p, g);
+    if pg < 0.0 {
+        return Some((p, pg));
+    }
+    *h = identity(n);
+    let p: Vec<f64> = g.iter().map(|v| -v).collect();
+    let pg = dot(&p, g);
+    (pg < 0.0).then_some((p, pg))
 }
 
 fn identity(n: usize) -> Vec<f64> {
