@@ -3,30 +3,8 @@
 
 mod common;
 
-use std::process::{Command, Output};
-
+use common::cli::{bump, json, stderr};
 use serde_json::Value;
-
-fn bump(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bump"))
-        .args(args)
-        .output()
-        .expect("run bump")
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = bump(args);
-    assert!(
-        out.status.success(),
-        "bump {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON output")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
 
 #[test]
 fn builtin_scene_docks_by_a_straight_push() {

@@ -6,26 +6,18 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod common;
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 use bump::input::JoystickMap;
 use bump::model::pdb::{Format, parse_bytes};
 use bump::model::sdf::parse_sdf;
 use bump::model::{BondOrder, LoadError, LoadOptions, load};
 use bump::session::log::SessionLog;
-
-fn bump(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bump"))
-        .args(args)
-        .output()
-        .expect("run bump")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+use common::cli::{bump, stderr};
 
 /// A fresh folder for this test's files.
 fn scratch(name: &str) -> PathBuf {

@@ -8,26 +8,9 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
+use common::cli::{bump, json};
 use serde_json::Value;
-
-fn bump(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bump"))
-        .args(args)
-        .output()
-        .expect("run bump")
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = bump(args);
-    assert!(
-        out.status.success(),
-        "bump {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON output")
-}
 
 fn f(v: &Value) -> f64 {
     v.as_f64().expect("a number")

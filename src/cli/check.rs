@@ -9,7 +9,7 @@ use super::report::{
     MoleculeReport, PairReport, RuleReport, counted, molecule_report, pair_reports, print_pairs,
     rule_report,
 };
-use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, timed, within_range};
+use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, placed, timed};
 
 /// Arguments of `bump check`.
 #[derive(Debug, Args)]
@@ -47,14 +47,8 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     let loaded = args.scene.load()?;
     let scene = &loaded.scene;
     let offset = args.translate.unwrap_or(DVec3::ZERO);
-    let turn = args.turn.unwrap_or(Turn {
-        axis: DVec3::Z,
-        degrees: 0.0,
-    });
-    let rel = scene
-        .file_relative(DVec3::ZERO)
-        .moved(offset, turn.axis, turn.radians());
-    within_range(scene, "--move", &rel)?;
+    let turn = args.turn.unwrap_or(Turn::NONE);
+    let rel = placed(scene, args.translate, args.turn)?;
     let (pairs, us) = timed(5, || scene.check(&rel)).context("static check")?;
     let report = CheckReport {
         receptor: molecule_report(&loaded.receptor_source, &scene.receptor),

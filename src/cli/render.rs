@@ -120,10 +120,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     let loaded = args.scene.load()?;
-    let turn = args.turn.unwrap_or(Turn {
-        axis: DVec3::Z,
-        degrees: 0.0,
-    });
+    let turn = args.turn.unwrap_or(Turn::NONE);
     // The same range check as `check` and `touch`: a pose the session
     // would refuse to move to is refused here, not drawn unmoved.
     let moved = loaded.scene.file_relative(DVec3::ZERO).moved(

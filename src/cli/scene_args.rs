@@ -120,6 +120,12 @@ pub struct Turn {
 }
 
 impl Turn {
+    /// No turn (what an absent `--turn` means).
+    pub const NONE: Turn = Turn {
+        axis: DVec3::Z,
+        degrees: 0.0,
+    };
+
     /// The angle in degrees within (−180, 180] that turns the same way:
     /// reduced in full precision, so that 1e20° is the turn it names (in
     /// radians first, its rounding error would be whole turns). A step's
@@ -174,6 +180,20 @@ pub fn within_range(scene: &Scene, option: &str, rel: &Pose) -> anyhow::Result<(
         Ok(_) => Ok(()),
         Err(e) => bail!("{option}: the drug's centre would be {e}"),
     }
+}
+
+/// The drug's pose relative to the receptor after `--move` and `--turn`
+/// (the turn about the drug's heavy-atom centroid), refused as
+/// [`within_range`] refuses it under `--move`.
+pub fn placed(scene: &Scene, translate: Option<DVec3>, turn: Option<Turn>) -> anyhow::Result<Pose> {
+    let turn = turn.unwrap_or(Turn::NONE);
+    let rel = scene.file_relative(DVec3::ZERO).moved(
+        translate.unwrap_or(DVec3::ZERO),
+        turn.axis,
+        turn.radians(),
+    );
+    within_range(scene, "--move", &rel)?;
+    Ok(rel)
 }
 
 /// Parses a size in bytes (`2GiB`, `500M`, `1000000`).

@@ -22,7 +22,7 @@ use glam::DVec3;
 use serde::Serialize;
 
 use super::report::{MoleculeReport, counted, molecule_report};
-use super::scene_args::{LoadedScene, SceneArgs, Turn, parse_turn, parse_vec3, within_range};
+use super::scene_args::{LoadedScene, SceneArgs, Turn, parse_turn, parse_vec3, placed};
 
 /// Å added around the drug on every side for the maps' box.
 pub const MAP_MARGIN: f64 = 6.0;
@@ -91,15 +91,7 @@ pub struct Prepared {
 pub fn prepare_scene(args: &ScoringArgs) -> anyhow::Result<Prepared> {
     let loaded = args.scene.load()?;
     let scene = &loaded.scene;
-    let offset = args.translate.unwrap_or(DVec3::ZERO);
-    let turn = args.turn.unwrap_or(Turn {
-        axis: DVec3::Z,
-        degrees: 0.0,
-    });
-    let rel = scene
-        .file_relative(DVec3::ZERO)
-        .moved(offset, turn.axis, turn.radians());
-    within_range(scene, "--move", &rel)?;
+    let rel = placed(scene, args.translate, args.turn)?;
     let rec_warnings = &scene.receptor.chemistry().warnings;
     for w in rec_warnings.iter().take(RECEPTOR_WARNINGS_SHOWN) {
         eprintln!("bump: warning: receptor chemistry: {w}");
@@ -283,10 +275,7 @@ pub fn run(args: &ScoreArgs) -> anyhow::Result<()> {
     let scene = &p.loaded.scene;
     let atoms = atom_reports(&scene.drug, &s);
     let hbonds = hbond_reports(scene, &s);
-    let turn = c.turn.unwrap_or(Turn {
-        axis: DVec3::Z,
-        degrees: 0.0,
-    });
+    let turn = c.turn.unwrap_or(Turn::NONE);
     let report = ScoreReport {
         receptor: molecule_report(&p.loaded.receptor_source, &scene.receptor),
         drug: molecule_report(&p.loaded.drug_source, &scene.drug),

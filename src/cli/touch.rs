@@ -164,10 +164,7 @@ pub fn run(args: &TouchArgs) -> anyhow::Result<()> {
     let loaded = args.scene.load()?;
     let scene = &loaded.scene;
     let offset = args.start.unwrap_or(DVec3::ZERO);
-    let turn = args.turn.unwrap_or(Turn {
-        axis: DVec3::Z,
-        degrees: 0.0,
-    });
+    let turn = args.turn.unwrap_or(Turn::NONE);
     warn_long_turn(&turn);
     let start = scene.file_relative(offset);
     let end = start.moved(args.translate, turn.axis, turn.radians());

@@ -5,6 +5,7 @@
 #![allow(dead_code)] // each test crate uses only some of them
 #![allow(unused_imports)]
 
+pub mod cli;
 pub mod x11;
 
 pub use bump_testkit::oracle::{
