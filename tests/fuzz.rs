@@ -394,27 +394,9 @@ M  END
 $$$$
 ";
 
-const SDF_V3000_SEED: &str = "\
-v3
-  test
-
-  0  0  0     0  0            999 V3000
-M  V30 BEGIN CTAB
-M  V30 COUNTS 3 2 0 0 0
-M  V30 BEGIN ATOM
-M  V30 1 C 1.0 2.0 3.0 0
-M  V30 2 N 4.0 -
-M  V30 5.0 6.0 0 CHG=1
-M  V30 3 H 7.0 8.0 9.0 0
-M  V30 END ATOM
-M  V30 BEGIN BOND
-M  V30 1 1 1 2
-M  V30 2 1 1 3
-M  V30 END BOND
-M  V30 END CTAB
-M  END
-$$$$
-";
+/// A V3000 molfile with a continued atom line (shared with the reader's
+/// unit test).
+const SDF_V3000_SEED: &str = include_str!("data/v3000_continuation.sdf");
 
 /// A short session log, its lines checked.
 fn log_seed() -> Vec<u8> {

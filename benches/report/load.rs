@@ -230,12 +230,13 @@ pub const SECTION: Section = Section {
 };
 
 fn steps(ctx: &Context) -> usize {
-    usize::from(ctx.data.is_some())
+    ctx.one_step_with_data()
 }
 
 fn run(ctx: &Context, progress: &mut Progress) -> Part {
-    let Some(data) = ctx.data.as_ref() else {
-        return Part::text("## Loading\n\nSkipped: `../shared/pdb` not found.\n".to_string());
+    let data = match ctx.data_or_skip("Loading") {
+        Ok(d) => d,
+        Err(skipped) => return skipped,
     };
     progress.step("loading, beside gemmi");
     let bump = PathBuf::from(env!("CARGO_BIN_EXE_bump"));

@@ -96,6 +96,24 @@ pub struct Context {
     pub quick: bool,
 }
 
+impl Context {
+    /// One step when the structures folder exists, none otherwise: the
+    /// step count of a section that measures the shared structures only.
+    pub fn one_step_with_data(&self) -> usize {
+        usize::from(self.data.is_some())
+    }
+
+    /// The structures folder, or the section titled `title` saying it was
+    /// skipped for want of it.
+    pub fn data_or_skip(&self, title: &str) -> Result<&Path, Part> {
+        self.data.as_deref().ok_or_else(|| {
+            Part::text(format!(
+                "## {title}\n\nSkipped: `../shared/pdb` not found.\n"
+            ))
+        })
+    }
+}
+
 /// The command line after `--`.
 struct Options {
     out: Option<PathBuf>,

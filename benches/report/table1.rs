@@ -28,7 +28,7 @@ pub const SECTION: Section = Section {
 
 /// Number of progress steps [`run`] takes.
 fn steps(ctx: &Context) -> usize {
-    if ctx.data.is_some() { 1 } else { 0 }
+    ctx.one_step_with_data()
 }
 
 /// Computes the table.

@@ -6,8 +6,8 @@ use glam::DVec3;
 use serde::Serialize;
 
 use super::report::{
-    MoleculeReport, PairReport, RuleReport, counted, molecule_report, pair_reports, print_pairs,
-    rule_report,
+    MoleculeReport, PairReport, RuleReport, counted, molecule_report, pair_reports,
+    print_molecules, print_pairs, rule_report,
 };
 use super::scene_args::{SceneArgs, Turn, parse_turn, parse_vec3, placed, timed};
 
@@ -67,13 +67,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         outln!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
     }
-    outln!(
-        "receptor {} ({}), drug {} ({})",
-        report.receptor.name,
-        counted(report.receptor.atoms, "atom"),
-        report.drug.name,
-        counted(report.drug.atoms, "atom")
-    );
+    print_molecules(&report.receptor, &report.drug);
     outln!(
         "rule: overlap >= {} Å (+{} Å for N/O pairs), {} radii, hydrogens {}; collider {}",
         report.rule.overlap,

@@ -190,6 +190,18 @@ pub struct MoleculeReport {
     pub atoms: usize,
 }
 
+/// Writes the text report's first line: the receptor and the drug, with
+/// their atom counts.
+pub fn print_molecules(receptor: &MoleculeReport, drug: &MoleculeReport) {
+    outln!(
+        "receptor {} ({}), drug {} ({})",
+        receptor.name,
+        counted(receptor.atoms, "atom"),
+        drug.name,
+        counted(drug.atoms, "atom")
+    );
+}
+
 /// The report for a molecule.
 pub fn molecule_report(source: &str, m: &Molecule) -> MoleculeReport {
     MoleculeReport {

@@ -21,7 +21,7 @@ use clap::Args;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::report::{MoleculeReport, counted, molecule_report};
+use super::report::{MoleculeReport, counted, molecule_report, print_molecules};
 use super::scene_args::{LoadedScene, SceneArgs, Turn, parse_turn, parse_vec3, placed};
 
 /// Å added around the drug on every side for the maps' box.
@@ -371,13 +371,7 @@ fn hbond_reports(scene: &Scene, s: &Score) -> Vec<HBondReport> {
 /// Writes the report as text: the molecules, the score with its terms,
 /// the hydrogen bonds and each atom's contribution.
 fn print_report(report: &ScoreReport) {
-    outln!(
-        "receptor {} ({}), drug {} ({})",
-        report.receptor.name,
-        counted(report.receptor.atoms, "atom"),
-        report.drug.name,
-        counted(report.drug.atoms, "atom")
-    );
+    print_molecules(&report.receptor, &report.drug);
     outln!(
         "{} score {:.3} kcal/mol (inter {:.3}, intra {:.3}; {}, N_tors {}; {} evaluator, {:.2} µs{})",
         report.scoring,

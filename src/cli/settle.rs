@@ -15,7 +15,7 @@ use bump::score::{
 use clap::Args;
 use serde::Serialize;
 
-use super::report::{MoleculeReport, counted, molecule_report};
+use super::report::{MoleculeReport, counted, molecule_report, print_molecules};
 use super::score::{
     AtomId, ScoringArgs, build_maps, coulomb_energy, parse_evaluator, prepare_scene,
 };
@@ -192,13 +192,7 @@ pub fn run(args: &SettleArgs) -> anyhow::Result<()> {
         outln!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
     }
-    outln!(
-        "receptor {} ({}), drug {} ({})",
-        report.receptor.name,
-        counted(report.receptor.atoms, "atom"),
-        report.drug.name,
-        counted(report.drug.atoms, "atom")
-    );
+    print_molecules(&report.receptor, &report.drug);
     if !report.start_collisions.is_empty() {
         outln!(
             "the start collides ({}): pushed out before the contact rule applies",

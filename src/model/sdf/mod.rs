@@ -429,27 +429,7 @@ $$$$
 
     #[test]
     fn v3000_with_continuation() {
-        let text = "\
-v3
-  test
-
-  0  0  0     0  0            999 V3000
-M  V30 BEGIN CTAB
-M  V30 COUNTS 3 2 0 0 0
-M  V30 BEGIN ATOM
-M  V30 1 C 1.0 2.0 3.0 0
-M  V30 2 N 4.0 -
-M  V30 5.0 6.0 0 CHG=1
-M  V30 3 H 7.0 8.0 9.0 0
-M  V30 END ATOM
-M  V30 BEGIN BOND
-M  V30 1 1 1 2
-M  V30 2 1 1 3
-M  V30 END BOND
-M  V30 END CTAB
-M  END
-$$$$
-";
+        let text = include_str!("../../../tests/data/v3000_continuation.sdf");
         let l = parse_sdf(text, "t.sdf", &opts(Hydrogens::Keep, None)).unwrap();
         let s = &l.structure;
         assert_eq!(s.atoms.len(), 3);
