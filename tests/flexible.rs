@@ -413,11 +413,14 @@ fn a_session_with_soft_contacts_torsions_and_settle_replays_bit_for_bit() {
     assert_eq!(read, log);
     let _ = frame_line;
     let run = |log: &SessionLog| {
-        let mut s = docking(&dir, id, Response::Touch);
+        let (receptor, drug) = load_complex(&dir, id);
+        let mut s = Session::new(vec![receptor, drug], Settings::default()).unwrap();
         let mut settled = 0;
         let mut turned = 0;
         let mut soft_pressed = false;
+        let mut frames = Vec::new();
         replay(&mut s, log, |_, out| {
+            frames.push((out.t, out.contacts.len(), out.reshaped.clone()));
             settled += usize::from(out.settled.is_some());
             turned += usize::from(!out.reshaped.is_empty());
             soft_pressed |= out.resistance > 0.0;
@@ -429,6 +432,7 @@ fn a_session_with_soft_contacts_torsions_and_settle_replays_bit_for_bit() {
             settled,
             turned,
             soft_pressed,
+            frames,
         )
     };
     let a = run(&log);
@@ -436,10 +440,11 @@ fn a_session_with_soft_contacts_torsions_and_settle_replays_bit_for_bit() {
     assert_eq!(a.0, b.0);
     assert_eq!(a.1, b.1);
     assert_eq!(a.2, b.2);
+    assert_eq!(a.6, b.6, "every frame's outcome is the same");
     assert_eq!(a.3, 1, "settle ran once");
     assert!(a.4 > 5, "the torsions turned in {} frames", a.4);
     assert!(a.2.iter().any(|&t| t != 0.0));
-    eprintln!("soft pressed: {}", a.5);
+    assert!(a.5, "the soft response pressed into the receptor");
 }
 
 /// Median and p99 of a torsion step (a turn of up to 5° of a random bond

@@ -696,6 +696,11 @@ impl Session {
         };
         let receptor = self.typed_receptor(r);
         let collider = self.own_collider(r);
+        // Settle sums over the collider's neighbours in the order its
+        // search visits them, which differs once the padded rows (built in
+        // the background) are there: waiting for them makes the run the
+        // same every time, as replay needs.
+        collider.wait_for_clearance();
         let from = self.bodies[b].pose;
         let start = Conformation {
             pose: self.bodies[r].pose.inverse().compose(&from),
