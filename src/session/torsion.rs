@@ -730,6 +730,13 @@ impl Session {
             ));
             return;
         }
+        if s.steps == 0 {
+            out.messages.push(
+                "settle: no step lowers the score from here without a collision: nothing changed"
+                    .into(),
+            );
+            return;
+        }
         let to = self.bodies[r].pose.compose(&s.conf.pose);
         self.history.close();
         self.reshape(b, &s.conf.torsions, out);
