@@ -163,6 +163,7 @@ pub fn steer(
     session.bodies[1].pose = start;
     session.env = None;
     session.history = super::History::default();
+    session.prepare_response();
     let drug = session.bodies()[1].molecule.clone();
     let mut report = SteerReport {
         direction: d.to_array(),
