@@ -113,6 +113,9 @@ pub enum Command {
     SoftLimitMore,
     /// Let `soft` press less deep.
     SoftLimitLess,
+    /// Pin the drug's current pose (relative to the receptor) as the
+    /// reference of the live score's RMSD and of the ghost.
+    PinReference,
 }
 
 /// How much [`Command::SoftLimitMore`] and [`Command::SoftLimitLess`]

@@ -474,6 +474,7 @@ pub fn command_token(c: &Command) -> String {
         Command::SetSoftLimit(x) => format!("soft-limit:{x:?}"),
         Command::SoftLimitMore => "soft-more".into(),
         Command::SoftLimitLess => "soft-less".into(),
+        Command::PinReference => "pin-reference".into(),
     }
 }
 
@@ -530,6 +531,7 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
             .map_err(|_| format!("{}: soft-limit needs a number of Å", quoted(tok))),
         "soft-more" => no_arg(Command::SoftLimitMore),
         "soft-less" => no_arg(Command::SoftLimitLess),
+        "pin-reference" => no_arg(Command::PinReference),
         _ => Err(format!("unknown command {}", quoted(tok))),
     }
 }
@@ -738,6 +740,7 @@ mod tests {
                             Command::ToggleRocking,
                             Command::RockMore,
                             Command::RockLess,
+                            Command::PinReference,
                             Command::MoveBy {
                                 translate: DVec3::new(1.5, -2.0, 1e-9),
                                 axis: DVec3::Y,
