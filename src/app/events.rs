@@ -429,7 +429,13 @@ impl ApplicationHandler for App {
                     MouseScrollDelta::LineDelta(_, y) => f64::from(y),
                     MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
                 };
-                self.wheel(notches);
+                if self.mods.alt {
+                    let msg = self.hud.view.slab_thicker(notches.round());
+                    self.hud.say(msg);
+                    self.request_redraw();
+                } else {
+                    self.wheel(notches);
+                }
             }
             WindowEvent::DroppedFile(path) => self.open_file(path),
             _ => {}
