@@ -285,3 +285,47 @@ fn the_ghost_blends_by_its_opacity_and_is_depth_tested() {
         assert_eq!(px(&on, at) == px(&off, at), hidden, "drug at dz {dz}");
     }
 }
+
+/// `bump render` with `args` into `out`; its stderr when it fails.
+fn bump_render(args: &[&str], out: &std::path::Path) -> Result<Image, String> {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_bump"))
+        .arg("render")
+        .args(args)
+        .args(["--size", "160x120", "-o"])
+        .arg(out)
+        .output()
+        .expect("run bump");
+    if !o.status.success() {
+        return Err(String::from_utf8_lossy(&o.stderr).into_owned());
+    }
+    let img = image::open(out).expect("read the PNG").to_rgba8();
+    Ok(Image {
+        width: img.width(),
+        height: img.height(),
+        rgba: img.into_raw(),
+    })
+}
+
+#[test]
+fn bump_render_draws_the_ghost_and_the_slab() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("bump-ghost-slab-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let png = |n: &str| dir.join(format!("{n}.png"));
+    // The built-in scene's E moved 8 Å towards the eye: its ghost stays.
+    let moved = ["--move", "0,0,8"];
+    let plain = bump_render(&moved, &png("plain")).expect("plain");
+    let ghost = bump_render(&[&moved[..], &["--ghost"]].concat(), &png("ghost")).expect("ghost");
+    assert_ne!(plain.rgba, ghost.rgba, "--ghost drew nothing");
+    let slab = bump_render(&[&moved[..], &["--slab", "2"]].concat(), &png("slab")).expect("slab");
+    assert_ne!(plain.rgba, slab.rgba, "--slab 2 clipped nothing");
+    // A bare --slab is 10 Å.
+    let bare = bump_render(&["--slab"], &png("bare")).expect("bare slab");
+    let ten = bump_render(&["--slab", "10"], &png("ten")).expect("10 Å slab");
+    assert_eq!(bare.rgba, ten.rgba);
+    let err = bump_render(&["--slab", "0.2"], &png("thin")).expect_err("too thin");
+    assert!(err.contains("0.2") && err.contains("thickness"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
