@@ -103,7 +103,7 @@ fn toggles(
     let changed = centre_difference(before, &on);
     eprintln!("{key}: {changed} pixels changed in the middle of the screen");
     assert!(
-        changed > 200,
+        changed > 100,
         "{key} changed only {changed} pixels\n{}",
         log()
     );
