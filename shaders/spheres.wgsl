@@ -13,6 +13,18 @@
 // fs_shadowed (reads the shadow map, group 1) replaces fs_main when shadows
 // are on; vs_light/fs_light draw the shadow map itself, orthographic from
 // the light, with parallel rays.
+//
+// The ghost (GHOST, a pipeline constant) draws the drug's atoms again with
+// the model-view matrix at `frame.ghost.w` (the reference pose) in one tint,
+// 2 % smaller so that a drug sitting exactly on its reference hides it
+// without depth ties; it is blended by the caller's pipeline.
+//
+// The clipping slab (`frame.slab`, on when z > 0.5): two planes of constant
+// depth in the mono view space. A sphere's front surface beyond the far
+// plane is discarded; one in front of the near plane shows its cut face on
+// the near plane (a flat cap, as ChimeraX caps clipped atoms) when the
+// sphere reaches through it, else nothing. The shadow map drops the atoms'
+// parts outside the slab too. A cylinder shader clips with `slab_cut`.
 
 struct Frame {
     proj: mat4x4<f32>,
@@ -30,6 +42,10 @@ struct Frame {
     shadow: vec4<f32>,
     // x: shadow map size (texels), y: how dark a full shadow is (0..1).
     shadow_b: vec4<f32>,
+    // x: the slab's near plane (mono view-space z), y: its far plane, z: 1 when on.
+    slab: vec4<f32>,
+    // rgb: the ghost's tint; w: index of its model-view matrix.
+    ghost: vec4<f32>,
 };
 
 struct Atom {
@@ -47,6 +63,13 @@ struct Atom {
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 
 override DEPTH_CUE: bool = false;
+override GHOST: bool = false;
+
+// Whether mono view-space depth `z` lies outside the clipping slab (always
+// false with the slab off).
+fn slab_cut(z: f32) -> bool {
+    return frame.slab.z > 0.5 && (z > frame.slab.x || z < frame.slab.y);
+}
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
@@ -65,14 +88,19 @@ const CORNERS = array<vec2<f32>, 6>(
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;
     let atom = atoms[ii];
-    let body = u32(atom.color_body.w);
+    var body = u32(atom.color_body.w);
+    var r = atom.pos_radius.w;
+    let lit = (highlight[ii / 32u] >> (ii % 32u)) & 1u;
+    out.color = select(atom.color_body.rgb, frame.highlight.rgb, lit == 1u);
+    if (GHOST) {
+        body = u32(frame.ghost.w);
+        r = r * 0.98;
+        out.color = frame.ghost.rgb;
+    }
     let c = (model_view[body] * vec4<f32>(atom.pos_radius.xyz, 1.0)).xyz - frame.eye.xyz;
-    let r = atom.pos_radius.w;
     let d = length(c);
     out.centre = c;
     out.radius = r;
-    let lit = (highlight[ii / 32u] >> (ii % 32u)) & 1u;
-    out.color = select(atom.color_body.rgb, frame.highlight.rgb, lit == 1u);
     if (d <= r * 1.0001) {
         // The eye is inside this sphere: draw nothing.
         out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
@@ -117,6 +145,17 @@ fn ray_cast(in: VsOut) -> Hit {
     }
     let t = b - sqrt(disc);
     let hit = dir * t;
+    let z = hit.z + frame.eye.z;
+    if (slab_cut(z)) {
+        // Beyond the far plane the whole visible sphere is: nothing.
+        // In front of the near plane: the cap where the ray crosses that
+        // plane inside the sphere, facing the eye, or nothing.
+        let t_cap = (frame.slab.x - frame.eye.z) / dir.z;
+        if (z < frame.slab.y || !(t_cap <= b + sqrt(disc))) {
+            discard;
+        }
+        return Hit(dir * t_cap, vec3<f32>(0.0, 0.0, 1.0), dir);
+    }
     return Hit(hit, normalize(hit - in.centre), dir);
 }
 
@@ -175,6 +214,8 @@ struct LightOut {
     @location(0) light_pos: vec2<f32>,
     @location(1) @interpolate(flat) centre: vec3<f32>,
     @location(2) @interpolate(flat) radius: f32,
+    // The atom's centre in the mono view space (for the slab).
+    @location(3) @interpolate(flat) view_centre: vec3<f32>,
 };
 
 // The shadow map: atoms seen from the light, orthographic, so each quad is
@@ -191,6 +232,7 @@ fn vs_light(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) ->
     out.light_pos = p;
     out.centre = c;
     out.radius = r;
+    out.view_centre = view.xyz;
     // Depth of the quad is irrelevant: the fragment writes the true one.
     out.clip = vec4<f32>(p / frame.shadow.x, 0.5, 1.0);
     return out;
@@ -204,5 +246,11 @@ fn fs_light(in: LightOut) -> @builtin(frag_depth) f32 {
         discard;
     }
     let z = in.centre.z + sqrt(h2);
+    // Light space to mono view space: the transpose of the light's turn.
+    let turn = mat3x3<f32>(frame.light_view[0].xyz, frame.light_view[1].xyz, frame.light_view[2].xyz);
+    let v = in.view_centre + transpose(turn) * (vec3<f32>(in.light_pos, z) - in.centre);
+    if (slab_cut(v.z)) {
+        discard;
+    }
     return clamp((frame.shadow.y - z) / frame.shadow.z, 0.0, 1.0);
 }

@@ -16,3 +16,5 @@ for mode in side-by-side side-by-side-half top-bottom top-bottom-half rows colum
 done
 # docs/viewing.md: DHFR with trimethoprim, coloured by Vina contribution.
 "$bump" render "$pdb" "${common[@]}" --color contribution --cue translucent -o "$out/fit-contribution.png"
+# docs/viewing.md: the drug moved 5 Å out of its pocket (collisions off), its crystal pose as the ghost, in an 8 Å slab.
+"$bump" render "$pdb" --ligand TOP --size 480x300 --zoom 2.2 --no-contacts --move 5,0,0 --ghost --slab 8 -o "$out/fit-ghost-slab.png"

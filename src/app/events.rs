@@ -256,7 +256,9 @@ impl App {
             .iter()
             .find(|&&(vx, vy, vw, vh, _)| x >= vx && x < vx + vw && y >= vy && y < vy + vh)
             .and_then(|&(vx, vy, vw, vh, aspect)| {
-                pick::pick_in(&self.session, x - vx, y - vy, vw, vh, aspect)
+                let view = &self.hud.view;
+                let slab = view.slab_on.then(|| view.slab.planes(&self.session));
+                pick::pick_clipped(&self.session, x - vx, y - vy, vw, vh, aspect, slab)
             });
         self.hud.picked = hit;
         if let Some((b, _)) = hit
@@ -429,7 +431,13 @@ impl ApplicationHandler for App {
                     MouseScrollDelta::LineDelta(_, y) => f64::from(y),
                     MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
                 };
-                self.wheel(notches);
+                if self.mods.alt {
+                    let msg = self.hud.view.slab_thicker(notches.round());
+                    self.hud.say(msg);
+                    self.request_redraw();
+                } else {
+                    self.wheel(notches);
+                }
             }
             WindowEvent::DroppedFile(path) => self.open_file(path),
             _ => {}

@@ -368,6 +368,31 @@ pub const TABLE: &[Entry] = &[
         "translucent receptor on/off",
     ),
     row(
+        &[(K::KeyY, N)],
+        W(ShellAction::Cue(CueAction::Ghost)),
+        "ghost of the drug's reference pose (the file's pose, or the pinned one) on/off",
+    ),
+    row(
+        &[(K::KeyY, Mods::SHIFT)],
+        S(Command::PinReference),
+        "pin the drug's current pose as the reference (RMSD and ghost)",
+    ),
+    row(
+        &[(K::Digit4, N)],
+        W(ShellAction::Cue(CueAction::Slab)),
+        "clipping slab through the drug's centre on/off",
+    ),
+    row(
+        &[(K::Digit5, N)],
+        W(ShellAction::Cue(CueAction::SlabThinner)),
+        "thinner slab (−1 Å; or Alt+wheel)",
+    ),
+    row(
+        &[(K::Digit6, N)],
+        W(ShellAction::Cue(CueAction::SlabThicker)),
+        "thicker slab (+1 Å; or Alt+wheel)",
+    ),
+    row(
         &[(K::KeyU, N)],
         W(ShellAction::ToggleContribution),
         "colour the drug and the pocket by score contribution (blue helps, red hurts) on/off",
@@ -404,6 +429,7 @@ pub const MOUSE: &[(&str, &str)] = &[
     ("Drag", "turn the view"),
     ("Shift+drag, middle drag", "pan the view"),
     ("Wheel", "zoom towards the pointer"),
+    ("Alt+wheel", "clipping slab thicker / thinner (1 Å a notch)"),
     (
         "Ctrl+drag",
         "move the selected molecule (through collisions)",

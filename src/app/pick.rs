@@ -1,5 +1,7 @@
 //! Picking: which atom is under a pixel. A ray from the eye through the pixel
-//! is intersected with every atom's sphere (world coordinates, f64).
+//! is intersected with every atom's sphere (world coordinates, f64). With
+//! the clipping slab on, only what the slab shows is picked: an atom cut by
+//! its near plane at its cap, none in front of it or behind its far plane.
 
 use glam::DVec3;
 
@@ -23,6 +25,20 @@ pub fn pick_in(
     height: f64,
     aspect: f64,
 ) -> Option<(usize, usize)> {
+    pick_clipped(session, x, y, width, height, aspect, None)
+}
+
+/// As [`pick_in`], seeing only what lies between the slab's `(near, far)`
+/// planes (mono view-space z, as [`crate::render::slab::Slab::planes`]).
+pub fn pick_clipped(
+    session: &Session,
+    x: f64,
+    y: f64,
+    width: f64,
+    height: f64,
+    aspect: f64,
+    slab: Option<(f64, f64)>,
+) -> Option<(usize, usize)> {
     if !(width > 0.0 && height > 0.0 && aspect > 0.0) {
         return None;
     }
@@ -43,7 +59,21 @@ pub fn pick_in(
             if d2 > r * r || t_mid <= 0.0 {
                 continue;
             }
-            let t = t_mid - (r * r - d2).sqrt();
+            let mut t = t_mid - (r * r - d2).sqrt();
+            if let Some((near, far)) = slab {
+                // View-space depth along the ray is t · dir_view.z (< 0).
+                let z = t * dir_view.z;
+                if z < far {
+                    continue;
+                }
+                if z > near {
+                    let t_cap = near / dir_view.z;
+                    if t_cap > t_mid + (r * r - d2).sqrt() {
+                        continue;
+                    }
+                    t = t_cap;
+                }
+            }
             if best.is_none_or(|(bt, _, _)| t < bt) {
                 best = Some((t, k, i));
             }
@@ -92,5 +122,21 @@ mod tests {
         }
         assert!(hits >= 2, "the test needs atoms under the pointer");
         assert_eq!(pick_in(&s, 1.0, 1.0, 10.0, 10.0, 0.0), None);
+    }
+
+    #[test]
+    fn the_slab_hides_what_it_clips_from_the_pointer() {
+        let (rings, e) = builtin::scene(RadiiSet::Bondi);
+        let s = Session::new(vec![rings, e], Settings::default()).expect("session");
+        let (w, h) = (800.0, 600.0);
+        let (x, y) = (400.0, 300.0);
+        let hit = pick(&s, x, y, w, h).expect("an atom under the centre");
+        // A slab far behind everything shows nothing; one around the scene
+        // shows what the pointer hits without it.
+        let d = s.view_camera().distance;
+        let behind = Some((-d - 500.0, -d - 510.0));
+        assert_eq!(pick_clipped(&s, x, y, w, h, w / h, behind), None);
+        let around = Some((-d + 500.0, -d - 500.0));
+        assert_eq!(pick_clipped(&s, x, y, w, h, w / h, around), Some(hit));
     }
 }

@@ -7,6 +7,8 @@
 //! flicker at 30 Hz. The window refuses it, with a message, when the
 //! monitor's refresh rate is lower or unknown.
 
+use crate::render::ghost::Ghost;
+use crate::render::slab::Slab;
 use crate::render::{Cues, Stereo, StereoMode};
 use crate::session::Command;
 
@@ -42,6 +44,14 @@ pub enum CueAction {
     Shadow,
     /// Translucent receptor on/off.
     Translucent,
+    /// The ghost of the drug's reference pose on/off.
+    Ghost,
+    /// The clipping slab on/off.
+    Slab,
+    /// A thinner slab (one step).
+    SlabThinner,
+    /// A thicker slab (one step).
+    SlabThicker,
 }
 
 /// Cues, stereo and the frame counter of the window.
@@ -55,6 +65,12 @@ pub struct ViewState {
     pub frame: u64,
     /// The monitor's refresh rate in mHz, when known.
     pub refresh_millihertz: Option<u32>,
+    /// The ghost of the drug's reference pose is drawn.
+    pub ghost: bool,
+    /// The clipping slab is on.
+    pub slab_on: bool,
+    /// The slab's thickness (kept while it is off).
+    pub slab: Slab,
 }
 
 fn on_off(b: bool) -> &'static str {
@@ -69,6 +85,8 @@ impl ViewState {
             cues: self.cues,
             stereo: self.stereo,
             frame: self.frame,
+            ghost: self.ghost.then(Ghost::default),
+            slab: self.slab_on.then_some(self.slab),
             ..crate::render::ViewParams::default()
         }
     }
@@ -173,7 +191,29 @@ impl ViewState {
                 c.translucent = !c.translucent;
                 format!("translucent receptor {}", on_off(c.translucent))
             }
+            CueAction::Ghost => {
+                self.ghost = !self.ghost;
+                format!("ghost of the reference pose {}", on_off(self.ghost))
+            }
+            CueAction::Slab => {
+                self.slab_on = !self.slab_on;
+                format!(
+                    "clipping slab {} ({:.0} Å)",
+                    on_off(self.slab_on),
+                    self.slab.thickness
+                )
+            }
+            CueAction::SlabThinner => self.slab_thicker(-1.0),
+            CueAction::SlabThicker => self.slab_thicker(1.0),
         }
+    }
+
+    /// Makes the slab `steps` steps thicker (negative: thinner) and turns
+    /// it on; returns the message to show.
+    pub fn slab_thicker(&mut self, steps: f64) -> String {
+        self.slab = self.slab.thicker(steps);
+        self.slab_on = true;
+        format!("clipping slab {:.0} Å", self.slab.thickness)
     }
 
     /// Whether the window must keep drawing with no input (frame-sequential
@@ -209,6 +249,21 @@ pub fn controls(
     ui.checkbox(&mut c.ao, "AO");
     ui.checkbox(&mut c.shadow, "Shadow");
     ui.checkbox(&mut c.translucent, "Translucent");
+    ui.checkbox(&mut view.ghost, "Ghost");
+    ui.checkbox(&mut view.slab_on, "Slab");
+    if view.slab_on {
+        let mut t = view.slab.thickness;
+        let slider = egui::Slider::new(
+            &mut t,
+            crate::render::slab::MIN_THICKNESS..=crate::render::slab::MAX_THICKNESS,
+        )
+        .logarithmic(true)
+        .suffix(" Å")
+        .max_decimals(0);
+        if ui.add(slider).changed() {
+            view.slab = Slab::new(t);
+        }
+    }
     let mut rock = rocking;
     if ui.checkbox(&mut rock, "Rock").changed() {
         cmds.push(Command::ToggleRocking);
@@ -273,5 +328,24 @@ mod tests {
         assert!(v.stereo.separation <= 0.2);
         v.apply(CueAction::SwapEyes);
         assert!(v.stereo.swap);
+    }
+
+    #[test]
+    fn ghost_and_slab_keys_reach_the_render_settings() {
+        let mut v = ViewState::default();
+        let p = v.params(glam::DVec3::Z);
+        assert!(p.ghost.is_none() && p.slab.is_none());
+        v.apply(CueAction::Ghost);
+        assert!(v.params(glam::DVec3::Z).ghost.is_some());
+        assert!(v.apply(CueAction::Slab).contains("10 Å"));
+        v.apply(CueAction::SlabThinner);
+        v.apply(CueAction::SlabThinner);
+        let slab = v.params(glam::DVec3::Z).slab.expect("slab on");
+        assert_eq!(slab.thickness, 8.0);
+        v.apply(CueAction::Slab);
+        assert!(v.params(glam::DVec3::Z).slab.is_none());
+        // Thicker turns it on again, from the kept thickness.
+        assert!(v.apply(CueAction::SlabThicker).contains("9 Å"));
+        assert!(v.slab_on);
     }
 }

@@ -4,7 +4,9 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 use bump::render::contrib::ContributionColors;
+use bump::render::ghost::Ghost;
 use bump::render::offscreen::{Offscreen, save_png};
+use bump::render::slab::{MAX_THICKNESS, MIN_THICKNESS, Slab};
 use bump::render::{Cues, Gpu, Stereo, StereoMode, ViewParams};
 use bump::session::{Command, FrameInput, Session, Settings};
 use clap::Args;
@@ -69,6 +71,27 @@ pub struct RenderArgs {
     /// neutral, red hurts).
     #[arg(long, default_value = "element", value_parser = ["element", "contribution"])]
     color: String,
+    /// Draw the drug's file pose as a translucent ghost (the drug itself
+    /// stands where `--move`/`--turn` put it).
+    #[arg(long)]
+    ghost: bool,
+    /// Clip to a slab THICKNESS Å thick (default 10) through the drug's
+    /// centre, facing the eye.
+    #[arg(long, value_name = "THICKNESS", num_args = 0..=1, default_missing_value = "10", value_parser = parse_slab)]
+    slab: Option<Slab>,
+}
+
+fn parse_slab(s: &str) -> Result<Slab, String> {
+    let t: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}`: the slab's thickness is a number of Å"))?;
+    if !(t.is_finite() && (MIN_THICKNESS..=MAX_THICKNESS).contains(&t)) {
+        return Err(format!(
+            "`{s}`: the slab's thickness runs from {MIN_THICKNESS} to {MAX_THICKNESS} Å"
+        ));
+    }
+    Ok(Slab::new(t))
 }
 
 fn parse_stereo(s: &str) -> Result<StereoMode, String> {
@@ -178,6 +201,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             swap: args.swap_eyes,
         },
         frame: args.frame,
+        ghost: args.ghost.then(Ghost::default),
+        slab: args.slab,
         ..ViewParams::default()
     };
     if let Some(l) = args.light {

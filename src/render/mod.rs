@@ -7,15 +7,18 @@
 //! ([`cues`]) and stereo ([`stereo`]) are per-frame settings in
 //! [`ViewParams`]; a cue that is off costs no pass, pipeline or texture.
 //! Colour by contribution ([`contrib`]) rewrites only the atoms whose
-//! quantised colour changed.
+//! quantised colour changed. The [`ghost`] of the reference pose and the
+//! clipping [`slab`] are per-frame settings too.
 
 pub mod colors;
 pub mod contrib;
 pub mod cues;
 pub mod dashes;
+pub mod ghost;
 pub mod gpu;
 pub mod offscreen;
 pub mod pipelines;
+pub mod slab;
 pub mod spheres;
 pub mod stereo;
 pub mod view;

@@ -39,6 +39,8 @@ pub struct SphereKey {
     pub depth_cue: bool,
     /// Shadow-map lookup compiled in (needs bind group 1).
     pub shadow: bool,
+    /// The ghost: the drug's atoms at the reference pose, in one tint.
+    pub ghost: bool,
 }
 
 fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
@@ -251,14 +253,22 @@ impl Pipelines {
                     wgpu::CompareFunction::Equal,
                 ),
             };
-            let constants = [("DEPTH_CUE", if key.depth_cue { 1.0 } else { 0.0 })];
+            let flag = |b: bool| if b { 1.0 } else { 0.0 };
+            let constants = [
+                ("DEPTH_CUE", flag(key.depth_cue)),
+                ("GHOST", flag(key.ghost)),
+            ];
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("spheres"),
                 layout: Some(layout),
                 vertex: wgpu::VertexState {
                     module,
                     entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
+                    // GHOST picks the matrix, radius and colour here.
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &constants,
+                        ..Default::default()
+                    },
                     buffers: &[],
                 },
                 primitive: wgpu::PrimitiveState {

@@ -14,15 +14,20 @@
 //! of the target or, for interleaved and anaglyph modes, into its own
 //! texture; the screen-space pass (outlines, occlusion only) over each eye;
 //! the composition (composed modes only).
+//!
+//! The ghost ([`super::ghost`]) adds one model-view matrix after the
+//! molecules' and two draws of the drug's atoms per eye; the clipping slab
+//! ([`super::slab`]) is two depths in the eye's uniform.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DQuat, DVec3, Mat4};
 use wgpu::util::DeviceExt;
 
 use super::colors;
+use super::ghost::ghost_pose;
 use super::pipelines::{Pipelines, Role, SHADOW_SIZE, SphereKey, sphere_layout};
 use super::stereo::{EyeView, off_axis};
-use super::view::{ViewParams, depth_range, model_views, perspective, scene_sphere};
+use super::view::{ViewParams, depth_range_for, model_views, perspective, scene_sphere};
 use crate::session::Session;
 
 /// Depth buffer format.
@@ -95,6 +100,8 @@ struct FrameUniform {
     light_view: [f32; 16],
     shadow: [f32; 4],
     shadow_b: [f32; 4],
+    slab: [f32; 4],
+    ghost: [f32; 4],
 }
 
 #[repr(C)]
@@ -200,7 +207,8 @@ impl SphereRenderer {
             .iter()
             .map(|a| [a.color_body[0], a.color_body[1], a.color_body[2]])
             .collect();
-        let n_bodies = session.bodies().len().max(1);
+        // One matrix per molecule and one for the ghost.
+        let n_bodies = session.bodies().len() + 1;
         let mv_buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("model-view"),
             size: (n_bodies * 64) as u64,
@@ -253,6 +261,7 @@ impl SphereRenderer {
                 role: Role::Opaque,
                 depth_cue: true,
                 shadow: false,
+                ghost: false,
             },
         );
         let stats = UploadStats {
@@ -315,7 +324,7 @@ impl SphereRenderer {
         background: [f64; 3],
     ) {
         let cam = session.view_camera();
-        let (near, far) = depth_range(session);
+        let (near, far) = depth_range_for(session, params);
         let x = params.stereo.eye_x(view.eye, cam.distance);
         let proj = if x == 0.0 {
             perspective(cam.fov_y, view.aspect, near, far)
@@ -339,6 +348,17 @@ impl SphereRenderer {
             light_view: lit.light_view,
             shadow: lit.shadow,
             shadow_b: lit.shadow_b,
+            slab: match params.slab {
+                Some(slab) => {
+                    let (near, far) = slab.planes(session);
+                    [near as f32, far as f32, 1.0, 0.0]
+                }
+                None => [0.0; 4],
+            },
+            ghost: {
+                let t = params.ghost.unwrap_or_default().tint;
+                [t[0], t[1], t[2], session.bodies().len() as f32]
+            },
         };
         queue.write_buffer(&self.eyes[k].0, 0, bytemuck::bytes_of(&frame));
         self.stats.matrix_bytes += std::mem::size_of::<FrameUniform>() as u64;
@@ -450,19 +470,22 @@ impl SphereRenderer {
         self.apply_highlights(queue, &changes);
     }
 
-    /// Records one eye's draws into `pass` (its viewport already set).
+    /// Records one eye's draws into `pass` (its viewport already set);
+    /// `ghost` is the drug's molecule index when its ghost is drawn.
     fn draw_eye(
         &mut self,
         device: &wgpu::Device,
         pass: &mut wgpu::RenderPass<'_>,
         k: usize,
         params: &ViewParams,
+        ghost: Option<usize>,
     ) {
         let cues = params.cues;
         let key = |role| SphereKey {
             role,
             depth_cue: cues.depth,
             shadow: cues.shadow,
+            ghost: false,
         };
         pass.set_bind_group(0, &self.eyes[k].1, &[]);
         if cues.shadow {
@@ -493,6 +516,29 @@ impl SphereRenderer {
             pass.draw(0..6, 0..n);
             self.last.draws += 1;
         }
+        if let (Some(g), Some(d)) = (params.ghost, ghost) {
+            // The drug's atoms again at the reference pose: their front
+            // surface into depth (where nothing is nearer), then blended
+            // there, so overlapping ghost atoms blend once.
+            let first = self.offsets.get(d).map_or(n, |&o| o as u32);
+            let end = self.offsets.get(d + 1).map_or(n, |&o| o as u32);
+            let ghost_key = |role| SphereKey {
+                ghost: true,
+                ..key(role)
+            };
+            pass.set_pipeline(self.pipelines.sphere(device, ghost_key(Role::DepthOnly)));
+            pass.draw(0..6, first..end);
+            pass.set_pipeline(self.pipelines.sphere(device, ghost_key(Role::Translucent)));
+            let a = f64::from(g.opacity.clamp(0.0, 1.0));
+            pass.set_blend_constant(wgpu::Color {
+                r: a,
+                g: a,
+                b: a,
+                a,
+            });
+            pass.draw(0..6, first..end);
+            self.last.draws += 2;
+        }
     }
 
     /// Records the eyes of `plan` into `color` (cleared to `background`),
@@ -507,6 +553,7 @@ impl SphereRenderer {
         eyes: &[(usize, EyeView)],
         params: &ViewParams,
         background: [f64; 3],
+        ghost: Option<usize>,
     ) {
         let post = params.cues.needs_post();
         {
@@ -548,7 +595,7 @@ impl SphereRenderer {
                 for (k, view) in eyes {
                     let [x, y, w, h] = view.viewport;
                     pass.set_viewport(x as f32, y as f32, w as f32, h as f32, 0.0, 1.0);
-                    self.draw_eye(device, &mut pass, *k, params);
+                    self.draw_eye(device, &mut pass, *k, params, ghost);
                 }
             }
         }
@@ -592,16 +639,23 @@ impl SphereRenderer {
             self.write_eye(queue, k, view, session, params, &lit, background);
         }
         self.last.eyes = plan.eyes.len().min(2) as u32;
-        let mvs: Vec<[f32; 16]> = model_views(session)
+        let mut mvs: Vec<[f32; 16]> = model_views(session)
             .iter()
             .map(Mat4::to_cols_array)
             .collect();
+        // The ghost's matrix follows the molecules' (composed in f64 too).
+        let ghost = params.ghost.and(ghost_pose(session)).map(|(d, pose)| {
+            let view = session.view_camera().view_matrix();
+            let model = DMat4::from_rotation_translation(pose.rotation, pose.translation);
+            mvs.push((view * model).as_mat4().to_cols_array());
+            d
+        });
         if !mvs.is_empty() {
             queue.write_buffer(&self.mv_buf, 0, bytemuck::cast_slice(&mvs));
         }
         self.stats.matrix_bytes += (mvs.len() * 64) as u64;
         if params.cues.needs_post() {
-            let (near, far) = depth_range(session);
+            let (near, far) = depth_range_for(session, params);
             let cam = session.view_camera();
             let f = 1.0 / (0.5 * cam.fov_y).tan();
             let (vw, vh, aspect) = plan.eyes.first().map_or((width, height, 1.0), |e| {
@@ -646,7 +700,9 @@ impl SphereRenderer {
         }
         let eyes: Vec<(usize, EyeView)> = plan.eyes.iter().copied().enumerate().take(2).collect();
         match plan.compose {
-            None => self.eye_pass(device, encoder, color, depth, &eyes, params, background),
+            None => self.eye_pass(
+                device, encoder, color, depth, &eyes, params, background, ghost,
+            ),
             Some(mode) => {
                 let format = self.pipelines.format();
                 let targets = self.pipelines.compose(device, width, height).eyes.clone();
@@ -659,6 +715,7 @@ impl SphereRenderer {
                         std::slice::from_ref(e),
                         params,
                         background,
+                        ghost,
                     );
                 }
                 let c = self.pipelines.compose(device, width, height);

@@ -8,6 +8,8 @@
 use glam::{DMat4, DVec3, Mat4};
 
 use super::cues::Cues;
+use super::ghost::Ghost;
+use super::slab::Slab;
 use super::stereo::Stereo;
 use crate::session::Session;
 
@@ -26,6 +28,10 @@ pub struct ViewParams {
     pub stereo: Stereo,
     /// Frame number (frame-sequential stereo shows the left eye on even frames).
     pub frame: u64,
+    /// The ghost of the drug's reference pose, when drawn.
+    pub ghost: Option<Ghost>,
+    /// The clipping slab, when on.
+    pub slab: Option<Slab>,
 }
 
 impl Default for ViewParams {
@@ -37,6 +43,8 @@ impl Default for ViewParams {
             cues: Cues::default(),
             stereo: Stereo::default(),
             frame: 0,
+            ghost: None,
+            slab: None,
         }
     }
 }
@@ -72,6 +80,23 @@ pub fn depth_range(session: &Session) -> (f64, f64) {
     let far = far.max(1.0);
     // Keep near positive and the depth buffer's precision usable.
     let near = near.max(far * 1e-4).max(0.05);
+    (near, far.max(near * 2.0))
+}
+
+/// [`depth_range`], widened to hold the ghost of `params` when it is drawn.
+pub fn depth_range_for(session: &Session, params: &ViewParams) -> (f64, f64) {
+    let (near, far) = depth_range(session);
+    let Some((d, pose)) = params.ghost.and(super::ghost::ghost_pose(session)) else {
+        return (near, far);
+    };
+    let Some(body) = session.bodies().get(d) else {
+        return (near, far);
+    };
+    let view = session.view_camera().view_matrix();
+    let c = view.transform_point3(pose.translation);
+    let r = body.molecule.bounding_radius() + 1.0;
+    let far = far.max(-c.z + r);
+    let near = near.min(-c.z - r).max(far * 1e-4).max(0.05);
     (near, far.max(near * 2.0))
 }
 

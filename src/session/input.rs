@@ -136,6 +136,9 @@ pub enum Command {
     /// its pose and torsions that never collides ([`crate::score::settle()`]);
     /// one undoable move.
     Settle,
+    /// Pin the drug's current pose (relative to the receptor) as the
+    /// reference of the live score's RMSD and of the ghost.
+    PinReference,
 }
 
 /// How much [`Command::SoftLimitMore`] and [`Command::SoftLimitLess`]

@@ -30,7 +30,7 @@
 //! degrees per second, and a one-off turn in degrees). Version 2 added
 //! `k`, version 3 `tv`, `tn` and the torsion and settle commands
 //! (`torsion:K` or `torsion:none`, `next-torsion`, `previous-torsion`,
-//! `torsion-near:ATOM`, `turn:DEGREES`, `settle`); older logs read as they
+//! `torsion-near:ATOM`, `turn:DEGREES`, `settle`, `pin-reference`); older logs read as they
 //! are.
 //! `~CHECK` is the FNV-1a hash (32-bit, hex) of the line before ` ~`, so a
 //! damaged line is named. A log without its `end` line, or whose count
@@ -488,6 +488,7 @@ pub fn command_token(c: &Command) -> String {
         Command::SelectTorsionNear(a) => format!("torsion-near:{a}"),
         Command::TurnTorsion { degrees } => format!("turn:{degrees:?}"),
         Command::Settle => "settle".into(),
+        Command::PinReference => "pin-reference".into(),
     }
 }
 
@@ -559,6 +560,7 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
             .map(|degrees| Command::TurnTorsion { degrees })
             .map_err(|e| format!("{}: turn needs degrees: {e}", quoted(tok))),
         "settle" => no_arg(Command::Settle),
+        "pin-reference" => no_arg(Command::PinReference),
         _ => Err(format!("unknown command {}", quoted(tok))),
     }
 }
@@ -775,6 +777,7 @@ mod tests {
                             Command::ToggleRocking,
                             Command::RockMore,
                             Command::RockLess,
+                            Command::PinReference,
                             Command::MoveBy {
                                 translate: DVec3::new(1.5, -2.0, 1e-9),
                                 axis: DVec3::Y,
