@@ -7,17 +7,21 @@
 //! ([`cues`]) and stereo ([`stereo`]) are per-frame settings in
 //! [`ViewParams`]; a cue that is off costs no pass, pipeline or texture.
 //! Colour by contribution ([`contrib`]) rewrites only the atoms whose
-//! quantised colour changed.
+//! quantised colour changed. Ball-and-stick ([`sticks`]) shrinks the
+//! pocket's atoms and draws its bonds and the hydrogen bonds as cylinder
+//! impostors ([`cylinders`]), uploading the bond list only when it changes.
 
 pub mod colors;
 pub mod contrib;
 pub mod cues;
+pub mod cylinders;
 pub mod dashes;
 pub mod gpu;
 pub mod offscreen;
 pub mod pipelines;
 pub mod spheres;
 pub mod stereo;
+pub mod sticks;
 pub mod view;
 
 use thiserror::Error;

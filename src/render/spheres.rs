@@ -20,6 +20,7 @@ use glam::{DMat4, DQuat, DVec3, Mat4};
 use wgpu::util::DeviceExt;
 
 use super::colors;
+use super::cylinders::Cylinders;
 use super::pipelines::{Pipelines, Role, SHADOW_SIZE, SphereKey, sphere_layout};
 use super::stereo::{EyeView, off_axis};
 use super::view::{ViewParams, depth_range, model_views, perspective, scene_sphere};
@@ -137,6 +138,8 @@ pub struct UploadStats {
     pub highlight_bytes: u64,
     /// Atom colours rewritten (colour by contribution).
     pub color_bytes: u64,
+    /// Atom radii rewritten (balls of ball-and-stick).
+    pub radius_bytes: u64,
 }
 
 /// Draws every atom of a session as ray-cast spheres.
@@ -151,6 +154,10 @@ pub struct SphereRenderer {
     atoms: Vec<GpuAtom>,
     /// Each atom's element colour, to go back to.
     element_colors: Vec<[f32; 3]>,
+    /// Each atom's own radius, to go back to from a ball.
+    radii: Vec<f32>,
+    /// Bonds and dashes, made when the first stick is asked for.
+    cylinders: Option<Cylinders>,
     n_atoms: u32,
     offsets: Vec<usize>,
     words: Vec<u32>,
@@ -200,6 +207,7 @@ impl SphereRenderer {
             .iter()
             .map(|a| [a.color_body[0], a.color_body[1], a.color_body[2]])
             .collect();
+        let radii = atoms.iter().map(|a| a.pos_radius[3]).collect();
         let n_bodies = session.bodies().len().max(1);
         let mv_buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("model-view"),
@@ -267,6 +275,8 @@ impl SphereRenderer {
             atom_buf,
             atoms,
             element_colors,
+            radii,
+            cylinders: None,
             n_atoms,
             offsets,
             words,
@@ -409,6 +419,44 @@ impl SphereRenderer {
                 dirty.push(i);
             }
         }
+        let (n, bytes) = self.upload_atoms(queue, dirty);
+        self.stats.color_bytes += bytes;
+        n
+    }
+
+    /// Scales atoms' radii: `(molecule, atom, scale)` of the atom's own
+    /// radius (ball-and-stick draws balls at a quarter). Only atoms whose
+    /// radius differs are rewritten, in contiguous runs; returns how many
+    /// atoms changed.
+    pub fn set_radius_scales(
+        &mut self,
+        queue: &wgpu::Queue,
+        changes: &[(usize, usize, f32)],
+    ) -> usize {
+        let mut dirty: Vec<usize> = Vec::new();
+        for &(body, atom, scale) in changes {
+            let Some(&base) = self.offsets.get(body) else {
+                continue;
+            };
+            let i = base + atom;
+            let (Some(a), Some(r)) = (self.atoms.get_mut(i), self.radii.get(i)) else {
+                continue;
+            };
+            let radius = r * scale;
+            if a.pos_radius[3] != radius {
+                a.pos_radius[3] = radius;
+                dirty.push(i);
+            }
+        }
+        let (n, bytes) = self.upload_atoms(queue, dirty);
+        self.stats.radius_bytes += bytes;
+        n
+    }
+
+    /// Rewrites the atoms `dirty` (any order, repeats allowed) in
+    /// contiguous runs; returns how many, and the bytes written.
+    fn upload_atoms(&mut self, queue: &wgpu::Queue, mut dirty: Vec<usize>) -> (usize, u64) {
+        let mut bytes = 0;
         dirty.sort_unstable();
         dirty.dedup();
         let size = std::mem::size_of::<GpuAtom>();
@@ -426,10 +474,28 @@ impl SphereRenderer {
                 (start * size) as u64,
                 bytemuck::cast_slice(run),
             );
-            self.stats.color_bytes += std::mem::size_of_val(run) as u64;
+            bytes += std::mem::size_of_val(run) as u64;
             k += 1;
         }
-        dirty.len()
+        (dirty.len(), bytes)
+    }
+
+    /// The radius atom `atom` of molecule `body` is drawn with now (Å).
+    pub fn radius_of(&self, body: usize, atom: usize) -> Option<f32> {
+        let a = self.atoms.get(self.offsets.get(body)? + atom)?;
+        Some(a.pos_radius[3])
+    }
+
+    /// The cylinders (bonds and dashes), made on first use.
+    pub fn cylinders(&mut self, device: &wgpu::Device) -> &mut Cylinders {
+        let format = self.pipelines.format();
+        self.cylinders
+            .get_or_insert_with(|| Cylinders::new(device, format))
+    }
+
+    /// The cylinders, if any were ever asked for.
+    pub fn cylinders_made(&self) -> Option<&Cylinders> {
+        self.cylinders.as_ref()
     }
 
     /// The colour atom `atom` of molecule `body` is drawn with now (linear
@@ -476,6 +542,8 @@ impl SphereRenderer {
             // receptor's front surface alone in depth, then blended on top.
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::Opaque)));
             pass.draw(0..6, split..n);
+            // Sticks are opaque: drawn before the receptor's surface covers them.
+            self.draw_sticks(device, pass, k, cues.depth);
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::DepthOnly)));
             pass.draw(0..6, 0..split);
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::Translucent)));
@@ -492,6 +560,20 @@ impl SphereRenderer {
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::Opaque)));
             pass.draw(0..6, 0..n);
             self.last.draws += 1;
+            self.draw_sticks(device, pass, k, cues.depth);
+        }
+    }
+
+    /// The bonds and dashes of eye `k`, if there are any.
+    fn draw_sticks(
+        &mut self,
+        device: &wgpu::Device,
+        pass: &mut wgpu::RenderPass<'_>,
+        k: usize,
+        depth_cue: bool,
+    ) {
+        if let Some(c) = &mut self.cylinders {
+            self.last.draws += c.draw(device, pass, &self.eyes[k].1, depth_cue);
         }
     }
 
