@@ -202,7 +202,7 @@ fn sticks(c: &mut Criterion) {
             b.iter(|| {
                 // A small back-and-forth move of the drug: a moved frame.
                 k += 1;
-                let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+                let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
                 let out = session.step(
                     &FrameInput::with_commands(&[Command::MoveBy {
                         translate: DVec3::new(0.05, 0.02, 0.0) * sign,
@@ -225,7 +225,7 @@ fn sticks(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new("moved_step", name), |b| {
             b.iter(|| {
                 k += 1;
-                let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+                let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
                 let out = session.step(
                     &FrameInput::with_commands(&[Command::MoveBy {
                         translate: DVec3::new(0.05, 0.02, 0.0) * sign,

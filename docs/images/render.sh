@@ -17,4 +17,4 @@ done
 # docs/viewing.md: DHFR with trimethoprim, coloured by Vina contribution.
 "$bump" render "$pdb" "${common[@]}" --color contribution --cue translucent -o "$out/fit-contribution.png"
 # docs/viewing.md and the README: the pocket in ball-and-stick with hydrogen bonds.
-"$bump" render "$pdb" --ligand TOP --size 480x300 --view-turn 0,1,0,60 --zoom 3 --sticks --hbonds --color contribution -o "$out/fit-sticks.png"
+"$bump" render "$pdb" --ligand TOP --size 480x300 --view-turn 0,1,0,60 --zoom 2.5 --sticks --hbonds --color contribution --cue depth,translucent -o "$out/fit-sticks.png"
