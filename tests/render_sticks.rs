@@ -376,3 +376,46 @@ fn moving_the_drug_uploads_bonds_only_when_the_pocket_changes() {
     }
     assert!(off.spheres.cylinders_made().expect("made").is_empty());
 }
+
+#[test]
+fn sticks_draw_once_per_eye_with_every_cue_and_stereo_mode() {
+    use bump::render::{Stereo, StereoMode};
+    let Some(gpu) = gpu() else { return };
+    let Some(s) = dhfr_trimethoprim() else {
+        return;
+    };
+    let score = s.live_score().cloned().expect("scored");
+    let mut off = Offscreen::new(&gpu, &s, 96, 64).expect("target");
+    let mut view = StickView::default();
+    let mut cases: Vec<ViewParams> = ["none", "depth,outline,ao,shadow,translucent", "shadow"]
+        .iter()
+        .map(|c| ViewParams {
+            cues: Cues::parse(c).expect("cues"),
+            ..ViewParams::default()
+        })
+        .collect();
+    for mode in StereoMode::ALL {
+        cases.push(ViewParams {
+            cues: Cues::parse("depth,shadow,translucent").expect("cues"),
+            stereo: Stereo {
+                mode,
+                ..Stereo::default()
+            },
+            ..ViewParams::default()
+        });
+    }
+    for params in &cases {
+        view.show_pocket(&gpu.device, &gpu.queue, &mut off.spheres, &s, None);
+        view.show_hbonds(&gpu.device, &gpu.queue, &mut off.spheres, &s, None);
+        let plain = off.render(&gpu, &s, params).expect("render");
+        let without = off.spheres.frame_stats();
+        view.show_pocket(&gpu.device, &gpu.queue, &mut off.spheres, &s, Some(5.0));
+        view.show_hbonds(&gpu.device, &gpu.queue, &mut off.spheres, &s, Some(&score));
+        let sticks = off.render(&gpu, &s, params).expect("render");
+        let with = off.spheres.frame_stats();
+        // One more draw per eye: all the sticks in one instanced call.
+        assert_eq!(with.draws, without.draws + with.eyes, "{params:?}");
+        assert_eq!(with.passes, without.passes);
+        assert_eq!((plain.width, plain.height), (sticks.width, sticks.height));
+    }
+}

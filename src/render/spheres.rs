@@ -543,7 +543,7 @@ impl SphereRenderer {
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::Opaque)));
             pass.draw(0..6, split..n);
             // Sticks are opaque: drawn before the receptor's surface covers them.
-            self.draw_sticks(device, pass, k, cues.depth);
+            self.draw_sticks(device, pass, k, cues);
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::DepthOnly)));
             pass.draw(0..6, 0..split);
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::Translucent)));
@@ -560,20 +560,29 @@ impl SphereRenderer {
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::Opaque)));
             pass.draw(0..6, 0..n);
             self.last.draws += 1;
-            self.draw_sticks(device, pass, k, cues.depth);
+            self.draw_sticks(device, pass, k, cues);
         }
     }
 
-    /// The bonds and dashes of eye `k`, if there are any.
+    /// The bonds and dashes of eye `k`, if there are any (lit like the
+    /// spheres, depth-cued with them; no shadow). The sticks' group 1
+    /// replaces the shadow map's, which is bound again for the spheres
+    /// drawn after them.
     fn draw_sticks(
         &mut self,
         device: &wgpu::Device,
         pass: &mut wgpu::RenderPass<'_>,
         k: usize,
-        depth_cue: bool,
+        cues: super::Cues,
     ) {
-        if let Some(c) = &mut self.cylinders {
-            self.last.draws += c.draw(device, pass, &self.eyes[k].1, depth_cue);
+        let Some(c) = &mut self.cylinders else {
+            return;
+        };
+        let drawn = c.draw(device, pass, &self.eyes[k].1, cues.depth);
+        self.last.draws += drawn;
+        if drawn > 0 && cues.shadow {
+            let shadow = self.pipelines.shadow(device);
+            pass.set_bind_group(1, &shadow.bind_group, &[]);
         }
     }
 
