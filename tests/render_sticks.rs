@@ -419,3 +419,46 @@ fn sticks_draw_once_per_eye_with_every_cue_and_stereo_mode() {
         assert_eq!((plain.width, plain.height), (sticks.width, sticks.height));
     }
 }
+
+#[test]
+fn bump_render_draws_sticks_and_hydrogen_bonds_and_refuses_a_bad_distance() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    if gpu().is_none() {
+        return;
+    }
+    let pdb = dir.join("6xg5_tmp_prepared.pdb");
+    let out_dir = std::env::temp_dir().join(format!("bump-sticks-{}", std::process::id()));
+    std::fs::create_dir_all(&out_dir).expect("temp dir");
+    let png = out_dir.join("sticks.png");
+    let run = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_bump"))
+            .arg("render")
+            .arg(&pdb)
+            .args(["--ligand", "TOP", "--size", "160x100", "-o"])
+            .arg(&png)
+            .args(extra)
+            .output()
+            .expect("run bump")
+    };
+    let ok = run(&["--sticks", "--hbonds"]);
+    let text = String::from_utf8_lossy(&ok.stdout);
+    assert!(
+        ok.status.success(),
+        "{text} {}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    assert!(text.contains("H-bonds"), "{text}");
+    assert!(png.exists());
+    let ok = run(&["--sticks", "7.5"]);
+    assert!(ok.status.success());
+    let bad = run(&["--sticks", "20"]);
+    assert!(!bad.status.success());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("--sticks must be between 2 and 12 Å, got 20"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&out_dir);
+}

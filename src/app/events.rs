@@ -142,11 +142,9 @@ impl App {
                 let on = !self.hud.score.hbonds;
                 self.hud.score.hbonds = on;
                 self.hud.say(format!("hydrogen bonds {}", on_off(on)));
-                // The dashes lie inside full-size atoms: show them in ball-and-stick.
                 if on && !self.hud.score.pocket.on {
-                    self.hud.score.pocket.on = true;
-                    self.hud
-                        .say("hydrogen bonds on, with the pocket in ball-and-stick (P)");
+                    // The next frame turns ball-and-stick on (PocketPanel::sync).
+                    self.hud.say("the pocket in ball-and-stick shows them (P)");
                 }
             }
             ShellAction::TogglePocket => {

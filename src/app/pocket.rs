@@ -56,6 +56,11 @@ impl PocketPanel {
         hbonds: Option<&LiveScore>,
         new_score: bool,
     ) {
+        // Hydrogen bonds lie inside their atoms' full spheres: turning them
+        // on (key N or the HUD) shows the pocket in ball-and-stick too.
+        if hbonds.is_some() && !self.hbonds_shown {
+            self.on = true;
+        }
         let want = self.on.then_some(self.distance);
         if moved || want != self.shown {
             self.view.show_pocket(device, queue, spheres, session, want);
