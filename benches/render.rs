@@ -11,8 +11,16 @@
 //! trimethoprim (the built-in scene without ../shared/pdb), against mono
 //! with no cue in the same run.
 //!
+//! `sticks_1280x720` measures a frame in which the drug moved (a session
+//! step with the live score, then the frame) with the pocket in
+//! ball-and-stick and the hydrogen bonds as dashed sticks, against the
+//! same frame with both off, in the same run: the difference is what the
+//! sticks add per moved frame (finding the pocket, uploading what changed,
+//! drawing the cylinders).
+//!
 //! Run with `cargo bench --bench render` (only the cues:
-//! `cargo bench --bench render -- cues_`).
+//! `cargo bench --bench render -- cues_`; only the sticks:
+//! `cargo bench --bench render -- sticks_`).
 
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -158,5 +166,90 @@ fn cues_and_stereo(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, frames, cues_and_stereo);
+fn sticks(c: &mut Criterion) {
+    use bump::render::sticks::{DEFAULT_DISTANCE, StickView};
+    use bump::session::Command;
+    use glam::DVec3;
+    let gpu = match Gpu::headless() {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("SKIP: no graphics adapter: {e}");
+            return;
+        }
+    };
+    let Some(mols) = dhfr() else {
+        eprintln!("SKIP sticks: ../shared/pdb not readable");
+        return;
+    };
+    let Ok(mut session) = Session::new(mols, Settings::default()) else {
+        return;
+    };
+    session.enable_score();
+    session.step(&FrameInput::default(), 0.0);
+    let Ok(mut target) = Offscreen::new(&gpu, &session, 1280, 720) else {
+        return;
+    };
+    let params = ViewParams::default();
+    let mut g = c.benchmark_group("sticks_1280x720_dhfr");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(4));
+    for on in [false, true] {
+        let mut view = StickView::default();
+        let mut k = 0u64;
+        let name = if on { "sticks+hbonds" } else { "spheres" };
+        g.bench_function(BenchmarkId::new("moved_frame", name), |b| {
+            b.iter(|| {
+                // A small back-and-forth move of the drug: a moved frame.
+                k += 1;
+                let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
+                let out = session.step(
+                    &FrameInput::with_commands(&[Command::MoveBy {
+                        translate: DVec3::new(0.05, 0.02, 0.0) * sign,
+                        axis: DVec3::Z,
+                        degrees: 0.0,
+                    }]),
+                    0.016,
+                );
+                if on {
+                    let (d, q) = (&gpu.device, &gpu.queue);
+                    let s = &mut target.spheres;
+                    view.show_pocket(d, q, s, &session, Some(DEFAULT_DISTANCE));
+                    view.show_hbonds(d, q, s, &session, out.score.as_deref());
+                }
+                black_box(target.render(&gpu, &session, &params))
+            })
+        });
+        // The CPU side alone: the step, and with sticks the pocket and
+        // the uploads (no frame drawn).
+        g.bench_function(BenchmarkId::new("moved_step", name), |b| {
+            b.iter(|| {
+                k += 1;
+                let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
+                let out = session.step(
+                    &FrameInput::with_commands(&[Command::MoveBy {
+                        translate: DVec3::new(0.05, 0.02, 0.0) * sign,
+                        axis: DVec3::Z,
+                        degrees: 0.0,
+                    }]),
+                    0.016,
+                );
+                if on {
+                    let (d, q) = (&gpu.device, &gpu.queue);
+                    let s = &mut target.spheres;
+                    view.show_pocket(d, q, s, &session, Some(DEFAULT_DISTANCE));
+                    view.show_hbonds(d, q, s, &session, out.score.as_deref());
+                }
+                black_box(out.changed)
+            })
+        });
+        if on {
+            view.show_pocket(&gpu.device, &gpu.queue, &mut target.spheres, &session, None);
+            view.show_hbonds(&gpu.device, &gpu.queue, &mut target.spheres, &session, None);
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, frames, cues_and_stereo, sticks);
 criterion_main!(benches);

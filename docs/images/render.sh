@@ -18,3 +18,5 @@ done
 "$bump" render "$pdb" "${common[@]}" --color contribution --cue translucent -o "$out/fit-contribution.png"
 # docs/viewing.md: the drug moved 5 Å out of its pocket (collisions off), its crystal pose as the ghost, in an 8 Å slab.
 "$bump" render "$pdb" --ligand TOP --size 480x300 --zoom 2.2 --no-contacts --move 5,0,0 --ghost --slab 8 -o "$out/fit-ghost-slab.png"
+# docs/viewing.md and the README: the pocket in ball-and-stick with hydrogen bonds.
+"$bump" render "$pdb" --ligand TOP --size 480x300 --view-turn 0,1,0,60 --zoom 2.5 --sticks --hbonds --color contribution --cue depth,translucent -o "$out/fit-sticks.png"

@@ -142,6 +142,29 @@ impl App {
                 let on = !self.hud.score.hbonds;
                 self.hud.score.hbonds = on;
                 self.hud.say(format!("hydrogen bonds {}", on_off(on)));
+                if on && !self.hud.score.pocket.on {
+                    // The next frame turns ball-and-stick on (PocketPanel::sync).
+                    self.hud.say("the pocket in ball-and-stick shows them (P)");
+                }
+            }
+            ShellAction::TogglePocket => {
+                let p = &mut self.hud.score.pocket;
+                p.on = !p.on;
+                let msg = format!(
+                    "pocket in ball-and-stick {} (residues within {:.1} Å)",
+                    on_off(p.on),
+                    p.distance
+                );
+                self.hud.say(msg);
+            }
+            ShellAction::ToggleResidueLabels => {
+                let p = &mut self.hud.score.pocket;
+                p.labels = !p.labels;
+                if p.labels && !p.on {
+                    p.on = true;
+                }
+                let msg = format!("residue labels {}", on_off(p.labels));
+                self.hud.say(msg);
             }
         }
     }

@@ -145,6 +145,7 @@ impl App {
             g.reload(&self.session, &title);
             // The new renderer has element colours only.
             self.hud.score.colors = Default::default();
+            self.hud.score.pocket.renderer_replaced();
         }
         self.request_redraw();
     }

@@ -160,7 +160,17 @@ impl App {
         let open = &mut self.open_dialog;
         let dialogs = &mut self.dialogs;
         let picked = hud.picked;
-        let hbonds = hud.score.last.clone().filter(|_| hud.score.hbonds);
+        let labels: Vec<(String, usize, usize)> = if hud.score.pocket.labels {
+            hud.score
+                .pocket
+                .view
+                .labels()
+                .into_iter()
+                .map(|(l, k, a)| (l.to_string(), k, a))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let plan = hud
             .view
             .stereo
@@ -175,7 +185,7 @@ impl App {
             .collect();
         let mut full = g.egui_ctx.run_ui(raw, |ui| {
             let ppp = f64::from(ui.ctx().pixels_per_point());
-            overlay::draw(ui.ctx(), session, &views, picked, hbonds.as_deref(), ppp);
+            overlay::draw(ui.ctx(), session, &views, picked, &labels, ppp);
             let mut help = dialogs.is_open(Dialog::Help);
             cmds = super::hud::show(ui, session, hud, &mut help);
             dialogs.set(Dialog::Help, help);
@@ -267,6 +277,16 @@ impl App {
             g.spheres.set_colors(&g.gpu.queue, &changes);
             panel.colors.shown = panel.by_contribution;
         }
+        let hbonds = panel.last.as_deref().filter(|_| panel.hbonds);
+        panel.pocket.sync(
+            &g.gpu.device,
+            &g.gpu.queue,
+            &mut g.spheres,
+            &self.session,
+            out.changed,
+            hbonds,
+            out.score.is_some(),
+        );
         let background = if flashing {
             [0.35, 0.02, 0.05]
         } else {

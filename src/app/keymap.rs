@@ -104,6 +104,10 @@ pub enum ShellAction {
     ToggleContribution,
     /// Hydrogen bonds drawn on/off.
     ToggleHBonds,
+    /// The pocket (the drug and the residues near it) in ball-and-stick on/off.
+    TogglePocket,
+    /// Labels of the pocket's residues on/off.
+    ToggleResidueLabels,
 }
 
 /// What a binding does.
@@ -400,7 +404,17 @@ pub const TABLE: &[Entry] = &[
     row(
         &[(K::KeyN, N)],
         W(ShellAction::ToggleHBonds),
-        "hydrogen bonds (dashed) on/off",
+        "hydrogen bonds (dashed sticks) on/off",
+    ),
+    row(
+        &[(K::KeyP, N)],
+        W(ShellAction::TogglePocket),
+        "the pocket (the drug and the residues within the HUD's distance of it) in ball-and-stick on/off",
+    ),
+    row(
+        &[(K::KeyP, Mods::SHIFT)],
+        W(ShellAction::ToggleResidueLabels),
+        "labels of the pocket's residues on/off",
     ),
     row(
         &[(K::F12, N)],

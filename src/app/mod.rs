@@ -35,6 +35,7 @@ pub mod open_dialog;
 pub mod overlay;
 pub mod pick;
 pub mod player;
+pub mod pocket;
 pub mod saving;
 pub mod score_panel;
 pub mod stereo;

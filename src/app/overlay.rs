@@ -1,9 +1,9 @@
 //! Marks drawn over the scene with egui's painter: the atom the user
 //! clicked (a ring and its name), the drug (corner brackets and its
 //! name, always on, so a drug hidden inside the receptor is still found)
-//! and, when asked, the live score's hydrogen bonds as dashed lines from
-//! the drug's atom to the receptor's (dashes of fixed length in Å, so
-//! they shrink with distance; drawn over the atoms).
+//! and, when asked, the names of the pocket's residues at their alpha
+//! carbons (Shift+P). Hydrogen bonds are drawn by the renderer, as dashed
+//! sticks.
 //!
 //! Points are projected through the session's view camera as the renderer
 //! does, in each eye's viewport when stereo splits the frame (through the
@@ -11,9 +11,8 @@
 
 use glam::DVec3;
 
-use crate::render::dashes::dashes;
 use crate::render::stereo::Plan;
-use crate::session::{Camera, LiveScore, Session, labels};
+use crate::session::{Camera, Session, labels};
 
 /// A viewport in pixels: x, y, width, height and its projection's aspect.
 pub type Viewport = (f64, f64, f64, f64, f64);
@@ -56,59 +55,43 @@ pub fn project(cam: &Camera, v: Viewport, p: DVec3, radius: f64) -> Option<(f64,
 
 const DRUG: egui::Color32 = egui::Color32::from_rgb(255, 214, 64);
 const PICKED: egui::Color32 = egui::Color32::from_rgb(90, 220, 255);
-/// Hydrogen bonds: deep sky blue, as ChimeraX draws them.
-const HBOND: egui::Color32 = egui::Color32::from_rgb(0, 191, 255);
-/// Dash and gap of a hydrogen bond's line, Å.
-const HBOND_DASH: (f64, f64) = (0.3, 0.2);
-
-/// The hydrogen bonds of `score` as world segments (drug atom, receptor
-/// atom) at the molecules' poses now.
-pub fn hbond_segments(session: &Session, score: &LiveScore) -> Vec<(DVec3, DVec3)> {
-    let bodies = session.bodies();
-    let (Some(d), Some(r)) = (bodies.get(score.drug), bodies.get(score.receptor)) else {
-        return Vec::new();
-    };
-    score
-        .score
-        .hbonds
-        .iter()
-        .filter_map(|h| {
-            let a = d.molecule.local.get(h.drug_atom as usize)?;
-            let b = r.molecule.local.get(h.receptor_atom as usize)?;
-            Some((
-                d.pose.transform_point(a.as_dvec3()),
-                r.pose.transform_point(b.as_dvec3()),
-            ))
-        })
-        .collect()
-}
+/// Residue labels: light grey, as ChimeraX writes them.
+const RESIDUE: egui::Color32 = egui::Color32::from_rgb(225, 225, 225);
 
 /// Draws the marks for `session` into `ctx`'s foreground: the drug, the
-/// picked atom (molecule, atom) and the hydrogen bonds of `hbonds`, in
-/// each of `views`; `ppp` is egui's pixels per point.
+/// picked atom (molecule, atom) and the residue `labels` (text, molecule,
+/// the atom it is written at), in each of `views`; `ppp` is egui's pixels
+/// per point.
 pub fn draw(
     ctx: &egui::Context,
     session: &Session,
     views: &[Viewport],
     picked: Option<(usize, usize)>,
-    hbonds: Option<&LiveScore>,
+    labels: &[(String, usize, usize)],
     ppp: f64,
 ) {
-    let bonds = hbonds
-        .map(|s| hbond_segments(session, s))
-        .unwrap_or_default();
     let painter = ctx.layer_painter(egui::LayerId::background());
     let cam = session.view_camera();
     let pt = |x: f64, y: f64| egui::pos2((x / ppp) as f32, (y / ppp) as f32);
     let font = egui::FontId::proportional(13.0);
+    let small = egui::FontId::proportional(11.0);
     for &v in views {
-        for &(a, b) in &bonds {
-            for (p, q) in dashes(a, b, HBOND_DASH.0, HBOND_DASH.1) {
-                if let (Some((x0, y0, _)), Some((x1, y1, _))) =
-                    (project(&cam, v, p, 0.0), project(&cam, v, q, 0.0))
-                {
-                    painter.line_segment([pt(x0, y0), pt(x1, y1)], egui::Stroke::new(2.5, HBOND));
-                }
+        for (text, k, i) in labels {
+            let Some(p) = session
+                .bodies()
+                .get(*k)
+                .and_then(|b| Some(b.pose.transform_point(b.molecule.local.get(*i)?.as_dvec3())))
+            else {
+                continue;
+            };
+            if let Some((x, y, _)) = project(&cam, v, p, 0.0) {
+                painter.text(
+                    pt(x, y),
+                    egui::Align2::CENTER_BOTTOM,
+                    text,
+                    small.clone(),
+                    RESIDUE,
+                );
             }
         }
         if let Some(d) = session.drug().filter(|_| session.bodies().len() > 1) {

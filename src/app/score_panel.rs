@@ -32,6 +32,8 @@ pub struct ScorePanel {
     pub hbonds: bool,
     /// The atoms the renderer has coloured by contribution now.
     pub colors: ContributionColors,
+    /// The pocket in ball-and-stick, its labels, and the sticks drawn.
+    pub pocket: super::pocket::PocketPanel,
 }
 
 impl ScorePanel {
@@ -99,6 +101,7 @@ pub fn show(ctx: &egui::Context, panel: &mut ScorePanel) {
                 ui.checkbox(&mut panel.by_contribution, "Colour by contribution");
             });
             ui.checkbox(&mut panel.hbonds, "H-bonds");
+            super::pocket::controls(ui, &mut panel.pocket);
             let Some(s) = panel.last.clone() else {
                 ui.label("no score yet (needs a drug and a receptor)");
                 return;

@@ -7,6 +7,7 @@ use bump::render::contrib::ContributionColors;
 use bump::render::ghost::Ghost;
 use bump::render::offscreen::{Offscreen, save_png};
 use bump::render::slab::{MAX_THICKNESS, MIN_THICKNESS, Slab};
+use bump::render::sticks::{self, DISTANCE_RANGE, StickView};
 use bump::render::{Cues, Gpu, Stereo, StereoMode, ViewParams};
 use bump::session::{Command, FrameInput, Session, Settings};
 use clap::Args;
@@ -79,6 +80,14 @@ pub struct RenderArgs {
     /// centre, facing the eye.
     #[arg(long, value_name = "THICKNESS", num_args = 0..=1, default_missing_value = "10", value_parser = parse_slab)]
     slab: Option<Slab>,
+    /// Ball-and-stick for the drug and the receptor's residues within DIST
+    /// Å of it (2 to 12, default 5), with their bonds as sticks.
+    #[arg(long, value_name = "DIST", num_args = 0..=1, default_missing_value = "5")]
+    sticks: Option<f64>,
+    /// Draw the hydrogen bonds the Vina score counts, as dashed sticks
+    /// (with the pocket in ball-and-stick: they lie inside full spheres).
+    #[arg(long)]
+    hbonds: bool,
 }
 
 fn parse_slab(s: &str) -> Result<Slab, String> {
@@ -159,8 +168,18 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     };
     let molecules = vec![loaded.scene.receptor.clone(), loaded.scene.drug.clone()];
     let mut session = Session::new(molecules, settings)?;
+    if let Some(d) = args.sticks
+        && !DISTANCE_RANGE.contains(&d)
+    {
+        bail!(
+            "--sticks must be between {} and {} Å, got {}",
+            DISTANCE_RANGE.start(),
+            DISTANCE_RANGE.end(),
+            short_number(d)
+        );
+    }
     let by_contribution = args.color == "contribution";
-    if by_contribution {
+    if by_contribution || args.hbonds {
         session.enable_score();
     }
     let mut commands = Vec::new();
@@ -217,6 +236,29 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         };
         let changes = ContributionColors::default().update(Some(s));
         target.spheres.set_colors(&gpu.queue, &changes);
+    }
+    let mut view = StickView::default();
+    let pocket = args
+        .sticks
+        .or(args.hbonds.then_some(sticks::DEFAULT_DISTANCE));
+    view.show_pocket(
+        &gpu.device,
+        &gpu.queue,
+        &mut target.spheres,
+        &session,
+        pocket,
+    );
+    if args.hbonds {
+        let Some(s) = &score else {
+            bail!("--hbonds needs a drug and a receptor to score");
+        };
+        view.show_hbonds(
+            &gpu.device,
+            &gpu.queue,
+            &mut target.spheres,
+            &session,
+            Some(s),
+        );
     }
     let image = target.render(&gpu, &session, &params)?;
     save_png(&image, &args.output)?;

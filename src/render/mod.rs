@@ -7,12 +7,16 @@
 //! ([`cues`]) and stereo ([`stereo`]) are per-frame settings in
 //! [`ViewParams`]; a cue that is off costs no pass, pipeline or texture.
 //! Colour by contribution ([`contrib`]) rewrites only the atoms whose
-//! quantised colour changed. The [`ghost`] of the reference pose and the
-//! clipping [`slab`] are per-frame settings too.
+//! quantised colour changed. Ball-and-stick ([`sticks`]) shrinks the
+//! pocket's atoms and draws its bonds and the hydrogen bonds as cylinder
+//! impostors ([`cylinders`]), uploading the bond list only when it changes.
+//! The [`ghost`] of the reference pose and the clipping [`slab`] are
+//! per-frame settings.
 
 pub mod colors;
 pub mod contrib;
 pub mod cues;
+pub mod cylinders;
 pub mod dashes;
 pub mod ghost;
 pub mod gpu;
@@ -21,6 +25,7 @@ pub mod pipelines;
 pub mod slab;
 pub mod spheres;
 pub mod stereo;
+pub mod sticks;
 pub mod view;
 
 use thiserror::Error;

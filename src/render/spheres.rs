@@ -24,6 +24,7 @@ use glam::{DMat4, DQuat, DVec3, Mat4};
 use wgpu::util::DeviceExt;
 
 use super::colors;
+use super::cylinders::Cylinders;
 use super::ghost::ghost_pose;
 use super::pipelines::{Pipelines, Role, SHADOW_SIZE, SphereKey, sphere_layout};
 use super::stereo::{EyeView, off_axis};
@@ -144,6 +145,8 @@ pub struct UploadStats {
     pub highlight_bytes: u64,
     /// Atom colours rewritten (colour by contribution).
     pub color_bytes: u64,
+    /// Atom radii rewritten (balls of ball-and-stick).
+    pub radius_bytes: u64,
 }
 
 /// Draws every atom of a session as ray-cast spheres.
@@ -158,6 +161,10 @@ pub struct SphereRenderer {
     atoms: Vec<GpuAtom>,
     /// Each atom's element colour, to go back to.
     element_colors: Vec<[f32; 3]>,
+    /// Each atom's own radius, to go back to from a ball.
+    radii: Vec<f32>,
+    /// Bonds and dashes, made when the first stick is asked for.
+    cylinders: Option<Cylinders>,
     n_atoms: u32,
     offsets: Vec<usize>,
     words: Vec<u32>,
@@ -207,6 +214,7 @@ impl SphereRenderer {
             .iter()
             .map(|a| [a.color_body[0], a.color_body[1], a.color_body[2]])
             .collect();
+        let radii = atoms.iter().map(|a| a.pos_radius[3]).collect();
         // One matrix per molecule and one for the ghost.
         let n_bodies = session.bodies().len() + 1;
         let mv_buf = device.create_buffer(&wgpu::BufferDescriptor {
@@ -276,6 +284,8 @@ impl SphereRenderer {
             atom_buf,
             atoms,
             element_colors,
+            radii,
+            cylinders: None,
             n_atoms,
             offsets,
             words,
@@ -429,6 +439,44 @@ impl SphereRenderer {
                 dirty.push(i);
             }
         }
+        let (n, bytes) = self.upload_atoms(queue, dirty);
+        self.stats.color_bytes += bytes;
+        n
+    }
+
+    /// Scales atoms' radii: `(molecule, atom, scale)` of the atom's own
+    /// radius (ball-and-stick draws balls at a quarter). Only atoms whose
+    /// radius differs are rewritten, in contiguous runs; returns how many
+    /// atoms changed.
+    pub fn set_radius_scales(
+        &mut self,
+        queue: &wgpu::Queue,
+        changes: &[(usize, usize, f32)],
+    ) -> usize {
+        let mut dirty: Vec<usize> = Vec::new();
+        for &(body, atom, scale) in changes {
+            let Some(&base) = self.offsets.get(body) else {
+                continue;
+            };
+            let i = base + atom;
+            let (Some(a), Some(r)) = (self.atoms.get_mut(i), self.radii.get(i)) else {
+                continue;
+            };
+            let radius = r * scale;
+            if a.pos_radius[3] != radius {
+                a.pos_radius[3] = radius;
+                dirty.push(i);
+            }
+        }
+        let (n, bytes) = self.upload_atoms(queue, dirty);
+        self.stats.radius_bytes += bytes;
+        n
+    }
+
+    /// Rewrites the atoms `dirty` (any order, repeats allowed) in
+    /// contiguous runs; returns how many, and the bytes written.
+    fn upload_atoms(&mut self, queue: &wgpu::Queue, mut dirty: Vec<usize>) -> (usize, u64) {
+        let mut bytes = 0;
         dirty.sort_unstable();
         dirty.dedup();
         let size = std::mem::size_of::<GpuAtom>();
@@ -446,10 +494,28 @@ impl SphereRenderer {
                 (start * size) as u64,
                 bytemuck::cast_slice(run),
             );
-            self.stats.color_bytes += std::mem::size_of_val(run) as u64;
+            bytes += std::mem::size_of_val(run) as u64;
             k += 1;
         }
-        dirty.len()
+        (dirty.len(), bytes)
+    }
+
+    /// The radius atom `atom` of molecule `body` is drawn with now (Å).
+    pub fn radius_of(&self, body: usize, atom: usize) -> Option<f32> {
+        let a = self.atoms.get(self.offsets.get(body)? + atom)?;
+        Some(a.pos_radius[3])
+    }
+
+    /// The cylinders (bonds and dashes), made on first use.
+    pub fn cylinders(&mut self, device: &wgpu::Device) -> &mut Cylinders {
+        let format = self.pipelines.format();
+        self.cylinders
+            .get_or_insert_with(|| Cylinders::new(device, format))
+    }
+
+    /// The cylinders, if any were ever asked for.
+    pub fn cylinders_made(&self) -> Option<&Cylinders> {
+        self.cylinders.as_ref()
     }
 
     /// The colour atom `atom` of molecule `body` is drawn with now (linear
@@ -499,6 +565,8 @@ impl SphereRenderer {
             // receptor's front surface alone in depth, then blended on top.
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::Opaque)));
             pass.draw(0..6, split..n);
+            // Sticks are opaque: drawn before the receptor's surface covers them.
+            self.draw_sticks(device, pass, k, cues);
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::DepthOnly)));
             pass.draw(0..6, 0..split);
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::Translucent)));
@@ -515,6 +583,7 @@ impl SphereRenderer {
             pass.set_pipeline(self.pipelines.sphere(device, key(Role::Opaque)));
             pass.draw(0..6, 0..n);
             self.last.draws += 1;
+            self.draw_sticks(device, pass, k, cues);
         }
         if let (Some(g), Some(d)) = (params.ghost, ghost) {
             // The drug's atoms again at the reference pose: their front
@@ -538,6 +607,28 @@ impl SphereRenderer {
             });
             pass.draw(0..6, first..end);
             self.last.draws += 2;
+        }
+    }
+
+    /// The bonds and dashes of eye `k`, if there are any (lit like the
+    /// spheres, depth-cued with them; no shadow). The sticks' group 1
+    /// replaces the shadow map's, which is bound again for the spheres
+    /// drawn after them.
+    fn draw_sticks(
+        &mut self,
+        device: &wgpu::Device,
+        pass: &mut wgpu::RenderPass<'_>,
+        k: usize,
+        cues: super::Cues,
+    ) {
+        let Some(c) = &mut self.cylinders else {
+            return;
+        };
+        let drawn = c.draw(device, pass, &self.eyes[k].1, cues.depth);
+        self.last.draws += drawn;
+        if drawn > 0 && cues.shadow {
+            let shadow = self.pipelines.shadow(device);
+            pass.set_bind_group(1, &shadow.bind_group, &[]);
         }
     }
 
