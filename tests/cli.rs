@@ -511,7 +511,7 @@ fn bad_input_gets_clear_errors() {
 #[cfg(feature = "app")]
 #[test]
 fn without_a_display_the_window_fails_cleanly() {
-    let out = Command::new(env!("CARGO_BIN_EXE_bump"))
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bump"))
         .arg("/nonexistent/receptor.pdb")
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")

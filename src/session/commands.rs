@@ -150,11 +150,14 @@ impl Session {
             Command::SoftLimitLess => {
                 self.set_soft_limit(self.settings.soft_limit - input::SOFT_LIMIT_STEP, out);
             }
-            Command::PinReference => out.messages.push(if self.live.pin(&self.bodies) {
-                "reference pinned: the RMSD and the ghost follow this pose".into()
-            } else {
-                "no reference to pin: the live score is not running".into()
-            }),
+            Command::PinReference => {
+                out.messages
+                    .push(if self.live.pin(&self.bodies, &self.flex) {
+                        "reference pinned: the RMSD and the ghost follow this pose".into()
+                    } else {
+                        "no reference to pin: the live score is not running".into()
+                    })
+            }
             Command::RockMore | Command::RockLess => {
                 if c == Command::RockMore {
                     self.rock.more();
