@@ -545,3 +545,34 @@ fn saving_writes_the_current_conformation() {
     s.mark_saved(1);
     assert!(s.unsaved().is_empty());
 }
+
+#[test]
+fn torsions_set_directly_are_checked_and_home_undoes_them() {
+    use bump::session::TorsionError;
+    let Some(dir) = shared_pdb() else {
+        return;
+    };
+    let (receptor, drug) = load_complex(&dir, "6xg5_TOP");
+    let mut s = Session::new(vec![receptor, drug], Settings::default()).unwrap();
+    let n = s.rotatable_bonds(1).len();
+    assert!(s.rotatable_bonds(0).is_empty(), "the receptor is rigid");
+    assert_eq!(
+        s.set_torsions(1, &[0.1]),
+        Err(TorsionError::Count { got: 1, bonds: n })
+    );
+    assert!(matches!(
+        s.set_torsions(1, &vec![f64::NAN; n]),
+        Err(TorsionError::NotFinite(_))
+    ));
+    assert_eq!(s.set_torsions(0, &[]), Err(TorsionError::NotFlexible(0)));
+    let file = s.bodies()[1].molecule.local.clone();
+    let angles: Vec<f64> = (0..n).map(|k| 0.3 * (k as f64 + 1.0)).collect();
+    s.set_torsions(1, &angles).unwrap();
+    assert_eq!(s.torsion_angles(1), angles);
+    assert_ne!(s.bodies()[1].molecule.local, file);
+    assert_eq!(s.history().undo_len(), 0, "not an undoable move");
+    s.step(&FrameInput::with_commands(&[Command::ResetMolecule]), 0.0);
+    assert_eq!(s.bodies()[1].molecule.local, file);
+    s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
+    assert_eq!(s.torsion_angles(1), angles);
+}
