@@ -495,3 +495,84 @@ fn torsion_step_timing() {
         );
     }
 }
+
+#[test]
+fn saving_writes_the_current_conformation() {
+    let Some(dir) = shared_pdb() else {
+        return;
+    };
+    let (receptor, drug) = load_complex(&dir, "1s3v_TQD");
+    let mut s = Session::new(vec![receptor, drug], Settings::default()).unwrap();
+    s.step(
+        &FrameInput::with_commands(&[
+            Command::SelectTorsion(Some(0)),
+            Command::TurnTorsion { degrees: 90.0 },
+            Command::NextTorsion,
+            Command::TurnTorsion { degrees: -120.0 },
+        ]),
+        0.0,
+    );
+    assert!(s.torsion_angles(1).iter().any(|&t| t != 0.0));
+    assert_eq!(s.unsaved(), [1]);
+    // What Ctrl+S writes: the drug in the receptor's frame.
+    let pose = s.pose_in_frame_of(1, 0).unwrap();
+    let mol = &s.bodies()[1].molecule;
+    let path = std::env::temp_dir().join(format!("bump-flexible-{}.sdf", std::process::id()));
+    bump::model::write::write_sdf(mol, &pose, &path).unwrap();
+    let back = bump::model::load(&path, &bump::model::LoadOptions::default()).unwrap();
+    let back = bump::model::receptor_only(&back.structure).unwrap();
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(back.len(), mol.len());
+    let want: Vec<DVec3> = mol
+        .local
+        .iter()
+        .map(|p| pose.transform_point(p.as_dvec3()))
+        .collect();
+    let file = s
+        .shape_at(1, &vec![0.0; s.torsion_angles(1).len()])
+        .unwrap()
+        .0;
+    let mut differs = 0;
+    for (i, p) in back.file_positions().iter().enumerate() {
+        assert!(
+            (*p - want[i]).length() < 1e-3,
+            "atom {i} saved at {p}, is at {}",
+            want[i]
+        );
+        differs += usize::from((file[i] - mol.local[i]).length() > 0.1);
+    }
+    assert!(differs > 0, "the saved conformation is the file's");
+    s.mark_saved(1);
+    assert!(s.unsaved().is_empty());
+}
+
+#[test]
+fn torsions_set_directly_are_checked_and_home_undoes_them() {
+    use bump::session::TorsionError;
+    let Some(dir) = shared_pdb() else {
+        return;
+    };
+    let (receptor, drug) = load_complex(&dir, "6xg5_TOP");
+    let mut s = Session::new(vec![receptor, drug], Settings::default()).unwrap();
+    let n = s.rotatable_bonds(1).len();
+    assert!(s.rotatable_bonds(0).is_empty(), "the receptor is rigid");
+    assert_eq!(
+        s.set_torsions(1, &[0.1]),
+        Err(TorsionError::Count { got: 1, bonds: n })
+    );
+    assert!(matches!(
+        s.set_torsions(1, &vec![f64::NAN; n]),
+        Err(TorsionError::NotFinite(_))
+    ));
+    assert_eq!(s.set_torsions(0, &[]), Err(TorsionError::NotFlexible(0)));
+    let file = s.bodies()[1].molecule.local.clone();
+    let angles: Vec<f64> = (0..n).map(|k| 0.3 * (k as f64 + 1.0)).collect();
+    s.set_torsions(1, &angles).unwrap();
+    assert_eq!(s.torsion_angles(1), angles);
+    assert_ne!(s.bodies()[1].molecule.local, file);
+    assert_eq!(s.history().undo_len(), 0, "not an undoable move");
+    s.step(&FrameInput::with_commands(&[Command::ResetMolecule]), 0.0);
+    assert_eq!(s.bodies()[1].molecule.local, file);
+    s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
+    assert_eq!(s.torsion_angles(1), angles);
+}
