@@ -396,7 +396,7 @@ fn vina_rows(data: &Path, reps: usize) -> String {
 
 /// Runs `n` calls of `what` (`rigid_maps`, `maps`, `exact_gradient` or
 /// `exact`) on the DHFR setup at the crystal pose, with maps over a small
-/// box, or `n` builds of the 24 Å maps on one thread (`build`): for
+/// box, `n` settles (`settle`, [`count_settle`]), or `n` builds of the 24 Å maps on one thread (`build`): for
 /// counting instructions under callgrind, where the machine is too busy to
 /// time (`n` = 0 gives the setup's count to subtract).
 pub fn count(data: &Path, what: &str, n: usize) {
@@ -410,6 +410,10 @@ pub fn count(data: &Path, what: &str, n: usize) {
     let rigid = RigidDrug::new(&field, &s.lig, &s.crystal.torsions);
     let (mut ws, mut g) = (Workspace::default(), Gradient::default());
     let (lig, c) = (&s.lig, &s.crystal);
+    if what == "settle" {
+        count_settle(&s, exact, n);
+        return;
+    }
     for _ in 0..n {
         match what {
             "rigid_maps" => {
@@ -428,5 +432,27 @@ pub fn count(data: &Path, what: &str, n: usize) {
                 black_box(energies(&exact, lig, c, &mut ws));
             }
         }
+    }
+}
+
+/// `n` settles on the 24 Å maps (which they do not leave) from the
+/// benchmark's perturbed poses in turn.
+fn count_settle(s: &Setup, exact: Exact<'_>, n: usize) {
+    let rule = ContactRule::default();
+    let collider = Collider::build(&s.receptor_mol, &rule, ColliderKind::Hashed);
+    collider.wait_for_clearance();
+    let mut contacts = Contacts::new(&collider, rule, &s.drug, &s.lig);
+    let starts = perturbed(&s.crystal, 43, 12);
+    let opts = SettleOptions::default();
+    let maps = s.maps(&s.crystal, SPACING, 1);
+    let field = MapField::new(&maps, exact);
+    for call in 0..n {
+        black_box(settle(
+            &field,
+            &s.lig,
+            &mut contacts,
+            &starts[call % starts.len()],
+            &opts,
+        ));
     }
 }
