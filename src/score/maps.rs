@@ -184,74 +184,27 @@ impl Lattice {
     /// `x`, with its gradient; `None` outside the lattice.
     #[inline]
     pub fn interpolate(&self, values: &[f32], x: DVec3) -> Option<(f64, DVec3)> {
-        Reader::new(self).interpolate(values, x)
-    }
-}
-
-/// What trilinear interpolation on a lattice needs, computed once per
-/// lattice rather than per read: the reciprocal spacing, the last point's
-/// coordinates and the strides, as the types the read uses.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Reader {
-    origin: DVec3,
-    inv: f64,
-    /// The last point's lattice coordinates.
-    top: DVec3,
-    /// The last cell's first point per axis (`points − 2`).
-    last: [i32; 3],
-    /// Strides of y and z.
-    sy: usize,
-    sz: usize,
-}
-
-impl Reader {
-    fn new(l: &Lattice) -> Self {
-        let [nx, ny, nz] = l.points;
-        // At most `MAX_POINTS` points: every count fits an i32 and an f64.
-        let n = |v: usize| v as i32;
-        Self {
-            origin: l.origin,
-            inv: 1.0 / l.spacing,
-            top: DVec3::new(
-                f64::from(n(nx) - 1),
-                f64::from(n(ny) - 1),
-                f64::from(n(nz) - 1),
-            ),
-            last: [n(nx) - 2, n(ny) - 2, n(nz) - 2],
-            sy: nx,
-            sz: nx * ny,
-        }
-    }
-
-    /// See [`Lattice::interpolate`].
-    #[inline(always)]
-    fn interpolate(&self, values: &[f32], x: DVec3) -> Option<(f64, DVec3)> {
-        let inv = self.inv;
+        let inv = 1.0 / self.spacing;
         let g = (x - self.origin) * inv;
-        let top = self.top;
+        let [nx, ny, nz] = self.points;
+        let top = DVec3::new((nx - 1) as f64, (ny - 1) as f64, (nz - 1) as f64);
         // Comparisons with NaN are false: a NaN position is "outside".
         if !(g.x >= 0.0 && g.y >= 0.0 && g.z >= 0.0 && g.x <= top.x && g.y <= top.y && g.z <= top.z)
         {
             return None;
         }
-        // In range (tested above), so the cheap i32 conversions are exact;
-        // the last point of an axis belongs to the cell before it.
-        let [lx, ly, lz] = self.last;
-        let i = (g.x as i32).min(lx);
-        let j = (g.y as i32).min(ly);
-        let k = (g.z as i32).min(lz);
-        let (fx, fy, fz) = (g.x - f64::from(i), g.y - f64::from(j), g.z - f64::from(k));
-        let (sy, sz) = (self.sy, self.sz);
-        let base = k as usize * sz + j as usize * sy + i as usize;
-        // The cell's four x-pairs of corners.
-        let pair = |o: usize| -> Option<(f64, f64)> {
-            let p = values.get(base + o..base + o + 2)?;
-            Some((f64::from(p[0]), f64::from(p[1])))
-        };
-        let (c000, c100) = pair(0)?;
-        let (c010, c110) = pair(sy)?;
-        let (c001, c101) = pair(sz)?;
-        let (c011, c111) = pair(sz + sy)?;
+        // In range (tested above), so the cheap i32 conversions are exact.
+        let i = (g.x as i32 as usize).min(nx - 2);
+        let j = (g.y as i32 as usize).min(ny - 2);
+        let k = (g.z as i32 as usize).min(nz - 2);
+        let (fx, fy, fz) = (g.x - i as f64, g.y - j as f64, g.z - k as f64);
+        let base = (k * ny + j) * nx + i;
+        let (sy, sz) = (nx, nx * ny);
+        // One bounds check for the eight corners.
+        let cell = &values[base..base + sz + sy + 2];
+        let v = |o: usize| f64::from(cell[o]);
+        let (c000, c100, c010, c110) = (v(0), v(1), v(sy), v(sy + 1));
+        let (c001, c101, c011, c111) = (v(sz), v(sz + 1), v(sz + sy), v(sz + sy + 1));
         // Along x, then y, then z.
         let c00 = c000 + fx * (c100 - c000);
         let c10 = c010 + fx * (c110 - c010);
@@ -274,7 +227,6 @@ impl Reader {
 pub struct Maps {
     scoring: Scoring,
     lattice: Lattice,
-    reader: Reader,
     types: Vec<XsType>,
     /// Per type index, its map's slot (`u8::MAX`: none).
     slot: [u8; 19],
@@ -453,7 +405,6 @@ impl Maps {
             .collect();
         Ok(Self {
             scoring,
-            reader: Reader::new(&lattice),
             lattice,
             types: kinds,
             slot,
@@ -484,11 +435,11 @@ impl Maps {
 
     /// The interpolated energy of type `t` at `x` and its gradient; `None`
     /// outside the box or for a type without a map.
-    #[inline(always)]
+    #[inline]
     pub fn sample(&self, t: XsType, x: DVec3) -> Option<(f64, DVec3)> {
         let s = self.slot[t.index()];
         let values = self.values.get(usize::from(s))?;
-        self.reader.interpolate(values, x)
+        self.lattice.interpolate(values, x)
     }
 }
 

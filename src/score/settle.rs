@@ -243,24 +243,10 @@ impl<'a> Contacts<'a> {
     /// for every receptor–drug pair at positions `x` whose distance is at
     /// most its contact distance plus `extra` (d² and the contact distance
     /// in f32, as the collider's static check has them).
-    fn near_pairs(&self, x: &[DVec3], extra: f32, f: impl FnMut(usize, u32, DVec3, f32, f32)) {
-        self.near_pairs_of(x, extra, |_| true, f);
-    }
-
-    /// [`Self::near_pairs`] for the atoms `i` where `asked(i)` only.
-    fn near_pairs_of(
-        &self,
-        x: &[DVec3],
-        extra: f32,
-        asked: impl Fn(usize) -> bool,
-        mut f: impl FnMut(usize, u32, DVec3, f32, f32),
-    ) {
+    fn near_pairs(&self, x: &[DVec3], extra: f32, mut f: impl FnMut(usize, u32, DVec3, f32, f32)) {
         let rule = &self.rule;
         let reach_extra = self.collider.max_radius() - rule.min_allowance() + extra.max(0.0);
         for (i, xi) in x.iter().enumerate() {
-            if !asked(i) {
-                continue;
-            }
             let a = &self.shape.atoms[i];
             self.collider
                 .near(xi.as_vec3(), a.radius + reach_extra, |q, meta, d2| {
@@ -301,10 +287,8 @@ impl<'a> Contacts<'a> {
     /// The escape penalty at positions `x`: `w·(c + m − d)²` for every pair
     /// closer than its contact distance `c` plus the margin `m`
     /// ([`ESCAPE_WEIGHT`], [`ESCAPE_MARGIN`]), with each atom's gradient
-    /// added to `g`. `far(i)` may say that atom `i` is known to be more
-    /// than the margin from contact with the receptor, whose pairs then
-    /// add nothing and are not looked for.
-    fn penalty(&self, x: &[DVec3], g: &mut [DVec3], far: impl Fn(usize) -> bool) -> f64 {
+    /// added to `g`.
+    fn penalty(&mut self, x: &[DVec3], g: &mut [DVec3]) -> f64 {
         let (w, m) = (ESCAPE_WEIGHT, ESCAPE_MARGIN);
         let mut e = 0.0;
         let push = |d: DVec3, c: f64| -> (f64, DVec3) {
@@ -321,16 +305,11 @@ impl<'a> Contacts<'a> {
                 (0.0, DVec3::ZERO)
             }
         };
-        self.near_pairs_of(
-            x,
-            m as f32,
-            |i| !far(i),
-            |i, _, q, _, c| {
-                let (v, f) = push(x[i] - q, f64::from(c));
-                e += v;
-                g[i] -= f;
-            },
-        );
+        self.near_pairs(x, m as f32, |i, _, q, _, c| {
+            let (v, f) = push(x[i] - q, f64::from(c));
+            e += v;
+            g[i] -= f;
+        });
         for p in &self.inner {
             let (a, b) = (p.a as usize, p.b as usize);
             let (v, f) = push(x[a] - x[b], p.contact);
@@ -493,17 +472,12 @@ struct Run<'r, 'l, 'c> {
     /// Clearances at the current conformation.
     atom_gap: Vec<f64>,
     pair_gap: Vec<f64>,
-    /// The positions the clearances were measured at (empty while there
-    /// are none).
-    gap_at: Vec<DVec3>,
     frames: Vec<(DMat3, DVec3)>,
     /// Per rotatable bond, the atoms that turn with it, ascending.
     moving: Vec<Vec<u32>>,
     /// Working positions.
     xm: Vec<DVec3>,
-    /// The travel of the step [`Self::first_alpha`] chose, with its
-    /// length, for the step's first trial.
-    first_travel: Option<(f64, Vec<f64>)>,
+    xb: Vec<DVec3>,
     refused: usize,
     sweeps: usize,
 }
@@ -517,32 +491,12 @@ impl<'r, 'l, 'c> Run<'r, 'l, 'c> {
             opts: *opts,
             atom_gap: Vec::new(),
             pair_gap: Vec::new(),
-            gap_at: Vec::new(),
             frames: Vec::new(),
             moving: (0..lig.torsions()).map(|k| moving_atoms(lig, k)).collect(),
             xm: Vec::new(),
-            first_travel: None,
+            xb: Vec::new(),
             refused: 0,
             sweeps: 0,
-        }
-    }
-
-    /// Measures the clearances at positions `xs`.
-    fn measure(&mut self, xs: &[DVec3]) {
-        self.contacts
-            .clearances(xs, self.opts.margin, &mut self.atom_gap, &mut self.pair_gap);
-        self.gap_at.clear();
-        self.gap_at.extend_from_slice(xs);
-    }
-
-    /// True when atom `i` at `x` is provably farther than the penalty's
-    /// margin from contact with the receptor: its clearance where it was
-    /// measured, less the distance it has moved since (a gap changes no
-    /// faster than the atom moves), still exceeds the margin.
-    fn far(&self, i: usize, x: DVec3) -> bool {
-        match (self.atom_gap.get(i), self.gap_at.get(i)) {
-            (Some(&gap), Some(&at)) => gap - (x - at).length() > ESCAPE_MARGIN + PROOF_SLACK,
-            _ => false,
         }
     }
 
@@ -551,7 +505,6 @@ impl<'r, 'l, 'c> Run<'r, 'l, 'c> {
     /// clearances prove clear (needing no sweep) is taken rather than a
     /// longer one that would need one, unless it is far shorter.
     fn first_alpha(&mut self, x: &Conformation, xs: &[DVec3], p: &[f64], free: bool) -> f64 {
-        self.first_travel = None;
         let cap = if free { MAX_STEP } else { ESCAPE_STEP };
         let full = stepped(x, p, 1.0);
         let longest = self.travel(x, xs, &full).into_iter().fold(0.0, f64::max);
@@ -561,8 +514,6 @@ impl<'r, 'l, 'c> Run<'r, 'l, 'c> {
             let proved = self.proved_fraction(&travel);
             if (PROVED_SHORTER..1.0).contains(&proved) {
                 alpha *= proved * (1.0 - 1e-9);
-            } else {
-                self.first_travel = Some((alpha, travel));
             }
         }
         alpha
@@ -593,13 +544,13 @@ impl<'r, 'l, 'c> Run<'r, 'l, 'c> {
                 travel[i as usize] += d.abs() * (v - u * v.dot(u)).length();
             }
         }
-        // The rigid piece: from A's pose with B's torsions (atoms at `xm`)
-        // to B, which moves each atom by `(R_B R_Aᵀ − I)(xm − T_A) + T_B − T_A`.
+        // The rigid piece: from A's pose with B's torsions to B.
         let turned = Conformation {
             pose: a.pose,
             torsions: b.torsions.clone(),
         };
         lig.place_into(&turned, &mut self.frames, &mut self.xm);
+        lig.place_into(b, &mut self.frames, &mut self.xb);
         let dq = (b.pose.rotation * a.pose.rotation.conjugate()).normalize();
         let theta = 2.0 * dq.w.abs().min(1.0).acos();
         let stretch = if theta > 1e-9 {
@@ -607,10 +558,8 @@ impl<'r, 'l, 'c> Run<'r, 'l, 'c> {
         } else {
             1.0
         };
-        let turn = DMat3::from_quat(dq) - DMat3::IDENTITY;
-        let shift = b.pose.translation - a.pose.translation;
-        for (t, xm) in travel.iter_mut().zip(&self.xm) {
-            *t += (turn * (*xm - a.pose.translation) + shift).length() * stretch;
+        for (t, (xb, xm)) in travel.iter_mut().zip(self.xb.iter().zip(&self.xm)) {
+            *t += (*xb - *xm).length() * stretch;
         }
         travel
     }
@@ -638,13 +587,9 @@ impl<'r, 'l, 'c> Run<'r, 'l, 'c> {
         atoms.min(pairs)
     }
 
-    /// True when the path from `a` (atoms at `xa`) to `b`, the step of
-    /// length `alpha`, collides nowhere.
-    fn clear(&mut self, a: &Conformation, xa: &[DVec3], b: &Conformation, alpha: f64) -> bool {
-        let travel = match self.first_travel.take() {
-            Some((at, travel)) if at == alpha => travel,
-            _ => self.travel(a, xa, b),
-        };
+    /// True when the path from `a` (atoms at `xa`) to `b` collides nowhere.
+    fn clear(&mut self, a: &Conformation, xa: &[DVec3], b: &Conformation) -> bool {
+        let travel = self.travel(a, xa, b);
         if self.proved_fraction(&travel) > 1.0 {
             return true;
         }
@@ -754,9 +699,7 @@ pub fn settle<F: Field + ?Sized>(
         {
             atom_g.clear();
             atom_g.resize(ws.positions.len(), DVec3::ZERO);
-            let x = &ws.positions;
-            let gaps = &*run;
-            f += gaps.contacts.penalty(x, &mut atom_g, |i| gaps.far(i, x[i]));
+            f += run.contacts.penalty(&ws.positions, &mut atom_g);
             lig.gradient(conf, &ws.positions, &atom_g, &mut tree, &mut extra);
             grad.translation += extra.translation;
             grad.rotation += extra.rotation;
@@ -777,7 +720,8 @@ pub fn settle<F: Field + ?Sized>(
     let mut g_new = Vec::with_capacity(n);
     let mut escape_steps = 0;
     if free {
-        run.measure(&xs);
+        run.contacts
+            .clearances(&xs, opts.margin, &mut run.atom_gap, &mut run.pair_gap);
     }
     let mut restarted = false;
     while steps < opts.max_steps {
@@ -789,7 +733,7 @@ pub fn settle<F: Field + ?Sized>(
         for _ in 0..10 {
             let trial = stepped(&x, &p, alpha);
             let allowed = if free {
-                run.clear(&x, &xs, &trial, alpha)
+                run.clear(&x, &xs, &trial)
             } else {
                 // Out of a colliding start: short steps, no rule yet.
                 run.travel(&x, &xs, &trial)
@@ -815,7 +759,8 @@ pub fn settle<F: Field + ?Sized>(
                 // and no farther: the rule holds from here.
                 free = true;
                 escape_steps = steps;
-                run.measure(&xs);
+                run.contacts
+                    .clearances(&xs, opts.margin, &mut run.atom_gap, &mut run.pair_gap);
                 h = identity(n);
                 continue;
             }
@@ -842,7 +787,8 @@ pub fn settle<F: Field + ?Sized>(
             escape_steps = steps;
         }
         if free {
-            run.measure(&xs);
+            run.contacts
+                .clearances(&xs, opts.margin, &mut run.atom_gap, &mut run.pair_gap);
         }
         if decrease < opts.min_decrease || dot(&g, &g).sqrt() < 1e-5 {
             break;

@@ -396,9 +396,11 @@ fn vina_rows(data: &Path, reps: usize) -> String {
 
 /// Runs `n` calls of `what` (`rigid_maps`, `maps`, `exact_gradient` or
 /// `exact`) on the DHFR setup at the crystal pose, with maps over a small
-/// box, `n` settles (`settle`, [`count_settle`]), or `n` builds of the 24 Å maps on one thread (`build`): for
-/// counting instructions under callgrind, where the machine is too busy to
-/// time (`n` = 0 gives the setup's count to subtract).
+/// box; `n` settles (`settle`, [`count_settle`]); the pair counts behind
+/// the exact evaluator's cost (`pairs`); or `n` builds of the 24 Å maps on
+/// one thread (`build`): for counting instructions under callgrind, or CPU
+/// time (`/usr/bin/time -f %U`), where the machine is too busy for wall
+/// times (`n` = 0 gives the setup's count to subtract).
 pub fn count(data: &Path, what: &str, n: usize) {
     let Some(s) = dhfr(data) else {
         return;
@@ -412,6 +414,26 @@ pub fn count(data: &Path, what: &str, n: usize) {
     let (lig, c) = (&s.lig, &s.crystal);
     if what == "settle" {
         count_settle(&s, exact, n);
+        return;
+    }
+    if what == "pairs" {
+        // What the exact evaluator's cost is made of: the receptor atoms
+        // its cell visits read, the pairs within 8 Å, the intramolecular
+        // pairs.
+        let x = lig.place(c);
+        let (mut read, mut near) = (0, 0);
+        for &i in &lig.scored {
+            let xi = x[i as usize];
+            s.receptor.cells().visit(xi, 8.0, |_| read += 1);
+            exact.neighbours(xi, |_, _| near += 1);
+        }
+        println!(
+            "{} scored atoms, {} receptor atoms read, {} pairs within 8 Å, {} intramolecular pairs",
+            lig.scored.len(),
+            read,
+            near,
+            lig.pairs.len()
+        );
         return;
     }
     for _ in 0..n {
