@@ -16,9 +16,6 @@ use crate::chem::XsType;
 /// reads about 1.5 times the atoms its sphere holds.
 pub const CELL: f64 = 2.0;
 
-/// scratch
-pub static CELL_OVERRIDE: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-
 /// A receptor atom in the cell list.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CellAtom {
@@ -58,10 +55,7 @@ impl Cells {
         // a file's coordinates must not decide how much memory is taken.
         let extent = (hi - lo).max(DVec3::splat(1e-9));
         let budget = 8.0 * atoms.len() as f64 + 1e6;
-        let mut cell = match CELL_OVERRIDE.load(std::sync::atomic::Ordering::Relaxed) {
-            0 => CELL,
-            v => f64::from_bits(v),
-        };
+        let mut cell = CELL;
         let count = |c: f64| {
             let d = (extent / c).floor() + 1.0;
             d.x * d.y * d.z

@@ -396,9 +396,11 @@ fn vina_rows(data: &Path, reps: usize) -> String {
 
 /// Runs `n` calls of `what` (`rigid_maps`, `maps`, `exact_gradient` or
 /// `exact`) on the DHFR setup at the crystal pose, with maps over a small
-/// box, or `n` builds of the 24 Å maps on one thread (`build`): for
-/// counting instructions under callgrind, where the machine is too busy to
-/// time (`n` = 0 gives the setup's count to subtract).
+/// box; `n` settles (`settle`, [`count_settle`]); the pair counts behind
+/// the exact evaluator's cost (`pairs`); or `n` builds of the 24 Å maps on
+/// one thread (`build`): for counting instructions under callgrind, or CPU
+/// time (`/usr/bin/time -f %U`), where the machine is too busy for wall
+/// times (`n` = 0 gives the setup's count to subtract).
 pub fn count(data: &Path, what: &str, n: usize) {
     let Some(s) = dhfr(data) else {
         return;
@@ -410,6 +412,30 @@ pub fn count(data: &Path, what: &str, n: usize) {
     let rigid = RigidDrug::new(&field, &s.lig, &s.crystal.torsions);
     let (mut ws, mut g) = (Workspace::default(), Gradient::default());
     let (lig, c) = (&s.lig, &s.crystal);
+    if what == "settle" {
+        count_settle(&s, exact, n);
+        return;
+    }
+    if what == "pairs" {
+        // What the exact evaluator's cost is made of: the receptor atoms
+        // its cell visits read, the pairs within 8 Å, the intramolecular
+        // pairs.
+        let x = lig.place(c);
+        let (mut read, mut near) = (0, 0);
+        for &i in &lig.scored {
+            let xi = x[i as usize];
+            s.receptor.cells().visit(xi, 8.0, |_| read += 1);
+            exact.neighbours(xi, |_, _| near += 1);
+        }
+        println!(
+            "{} scored atoms, {} receptor atoms read, {} pairs within 8 Å, {} intramolecular pairs",
+            lig.scored.len(),
+            read,
+            near,
+            lig.pairs.len()
+        );
+        return;
+    }
     for _ in 0..n {
         match what {
             "rigid_maps" => {
@@ -428,5 +454,27 @@ pub fn count(data: &Path, what: &str, n: usize) {
                 black_box(energies(&exact, lig, c, &mut ws));
             }
         }
+    }
+}
+
+/// `n` settles on the 24 Å maps (which they do not leave) from the
+/// benchmark's perturbed poses in turn.
+fn count_settle(s: &Setup, exact: Exact<'_>, n: usize) {
+    let rule = ContactRule::default();
+    let collider = Collider::build(&s.receptor_mol, &rule, ColliderKind::Hashed);
+    collider.wait_for_clearance();
+    let mut contacts = Contacts::new(&collider, rule, &s.drug, &s.lig);
+    let starts = perturbed(&s.crystal, 43, 12);
+    let opts = SettleOptions::default();
+    let maps = s.maps(&s.crystal, SPACING, 1);
+    let field = MapField::new(&maps, exact);
+    for call in 0..n {
+        black_box(settle(
+            &field,
+            &s.lig,
+            &mut contacts,
+            &starts[call % starts.len()],
+            &opts,
+        ));
     }
 }
