@@ -242,20 +242,29 @@ impl<'a> Contacts<'a> {
     /// Calls `f(drug atom, receptor atom, receptor position, d², contact)`
     /// for every receptor–drug pair at positions `x` whose distance is at
     /// most its contact distance plus `extra` (d² and the contact distance
-    /// in f32, as the collider's static check has them).
+    /// in f32, as the collider's static check has them), drug atom by drug
+    /// atom and, within one, in receptor atom order: the collider's search
+    /// order changes once its background structures are built, and the
+    /// penalty's sums must not (the same start settles bit for bit alike).
     fn near_pairs(&self, x: &[DVec3], extra: f32, mut f: impl FnMut(usize, u32, DVec3, f32, f32)) {
         let rule = &self.rule;
         let reach_extra = self.collider.max_radius() - rule.min_allowance() + extra.max(0.0);
+        let mut hits: Vec<(u32, DVec3, f32, f32)> = Vec::new();
         for (i, xi) in x.iter().enumerate() {
             let a = &self.shape.atoms[i];
+            hits.clear();
             self.collider
                 .near(xi.as_vec3(), a.radius + reach_extra, |q, meta, d2| {
                     let (j, polar) = unpack_meta(meta);
                     let c = rule.contact_distance(a.radius, a.polar, q.w, polar);
                     if within(d2, c + extra) {
-                        f(i, j, q.truncate().as_dvec3(), d2, c);
+                        hits.push((j, q.truncate().as_dvec3(), d2, c));
                     }
                 });
+            hits.sort_unstable_by_key(|h| h.0);
+            for &(j, q, d2, c) in &hits {
+                f(i, j, q, d2, c);
+            }
         }
     }
 
