@@ -221,7 +221,7 @@ fn sticks(c: &mut Criterion) {
             })
         });
         // The CPU side alone: the step, and with sticks the pocket and
-        // the uploads (no frame drawn).
+        // the uploads, submitted (no frame drawn).
         g.bench_function(BenchmarkId::new("moved_step", name), |b| {
             b.iter(|| {
                 k += 1;
@@ -240,6 +240,8 @@ fn sticks(c: &mut Criterion) {
                     view.show_pocket(d, q, s, &session, Some(DEFAULT_DISTANCE));
                     view.show_hbonds(d, q, s, &session, out.score.as_deref());
                 }
+                // The writes go to the GPU as a frame's would.
+                gpu.queue.submit(std::iter::empty());
                 black_box(out.changed)
             })
         });

@@ -298,6 +298,9 @@ impl PocketSet {
         }
         for (k, pocket, chosen) in &self.parts {
             let Some(b) = bodies.get(*k) else { continue };
+            if chosen.is_empty() {
+                continue;
+            }
             let mut inside = vec![false; b.molecule.len()];
             for &r in chosen {
                 for &a in &pocket.residues[r as usize].atoms {
@@ -305,17 +308,16 @@ impl PocketSet {
                     out.balls.push((*k, a as usize));
                 }
             }
-            if chosen.is_empty() {
-                continue;
+            // Each bond once, from its lower atom, through the chosen
+            // atoms' neighbours only (not every bond of the molecule).
+            let adjacency = &b.molecule.chemistry().adjacency;
+            for &(_, a) in out.balls.iter().filter(|(m, _)| m == k) {
+                for &(n, _) in adjacency.of(a) {
+                    if n as usize > a && inside[n as usize] {
+                        out.bonds.push((*k, a as u32, n));
+                    }
+                }
             }
-            out.bonds.extend(
-                b.molecule
-                    .chemistry()
-                    .bonds
-                    .iter()
-                    .filter(|bond| inside[bond.a as usize] && inside[bond.b as usize])
-                    .map(|bond| (*k, bond.a, bond.b)),
-            );
         }
         out.balls.sort_unstable();
         out.bonds.sort_unstable();
@@ -599,7 +601,7 @@ mod tests {
     #[test]
     fn the_set_changes_only_when_the_drug_moves_enough() {
         let (rings, e) = builtin::scene(RadiiSet::Bondi);
-        let s = Session::new(vec![rings, e], Settings::default()).expect("session");
+        let mut s = Session::new(vec![rings, e], Settings::default()).expect("session");
         let mut p = PocketSet::new(&s, 5.0);
         assert!(p.fits(&s));
         p.update(&s, 5.0);
@@ -611,6 +613,33 @@ mod tests {
             assert!(bs.balls.binary_search(&(k, a as usize)).is_ok());
             assert!(bs.balls.binary_search(&(k, b as usize)).is_ok());
         }
+        // With the widest distance the rings are in the pocket: its bonds
+        // are exactly the molecules' bonds between two balls.
+        let drug = p.drug.expect("a drug");
+        let other = 1 - drug;
+        let to = s.bodies()[other].pose.translation - s.bodies()[drug].pose.translation;
+        s.step(
+            &crate::session::FrameInput::with_commands(&[crate::session::Command::MoveBy {
+                translate: to,
+                axis: DVec3::Z,
+                degrees: 0.0,
+            }]),
+            0.0,
+        );
+        assert!(p.update(&s, 12.0));
+        let bs = p.ball_and_stick(&s);
+        let mut want = Vec::new();
+        for (k, b) in s.bodies().iter().enumerate() {
+            for bond in &b.molecule.chemistry().bonds {
+                let ball = |a: u32| bs.balls.binary_search(&(k, a as usize)).is_ok();
+                if ball(bond.a) && ball(bond.b) {
+                    want.push((k, bond.a, bond.b));
+                }
+            }
+        }
+        want.sort_unstable();
+        assert!(bs.balls.iter().any(|&(k, _)| k == other), "rings chosen");
+        assert_eq!(bs.bonds, want);
         let offsets = atom_offsets(&s);
         assert_eq!(offsets[0], 0);
         assert_eq!(
