@@ -18,16 +18,24 @@
 //! sticks add per moved frame (finding the pocket, uploading what changed,
 //! drawing the cylinders).
 //!
+//! `fit_views_1280x720` measures a moved frame (the drug steps 0.1 Å,
+//! the live score follows, the frame is drawn and read back) with the
+//! ghost of the reference pose, the clipping slab, or both, against the
+//! same frame without them in the same run.
+//!
 //! Run with `cargo bench --bench render` (only the cues:
 //! `cargo bench --bench render -- cues_`; only the sticks:
-//! `cargo bench --bench render -- sticks_`).
+//! `cargo bench --bench render -- sticks_`; the ghost and slab:
+//! `cargo bench --bench render -- fit_views`).
 
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
 
 use bump::model::{self, LigandSpec, LoadOptions, Molecule, RadiiSet, builtin};
+use bump::render::ghost::Ghost;
 use bump::render::offscreen::Offscreen;
+use bump::render::slab::Slab;
 use bump::render::{Cues, Gpu, Stereo, StereoMode, ViewParams};
 use bump::session::{FrameInput, Session, Settings};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
@@ -253,5 +261,80 @@ fn sticks(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, frames, cues_and_stereo, sticks);
+fn fit_views(c: &mut Criterion) {
+    use bump::session::Command;
+    use glam::DVec3;
+    let gpu = match Gpu::headless() {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("SKIP: no graphics adapter: {e}");
+            return;
+        }
+    };
+    let (label, mols) = match dhfr() {
+        Some(m) => ("dhfr", m),
+        None => {
+            eprintln!("SKIP DHFR: ../shared/pdb not readable; using the built-in scene");
+            let (r, d) = builtin::scene(RadiiSet::Bondi);
+            ("builtin", vec![r, d])
+        }
+    };
+    let Ok(mut session) = Session::new(mols, Settings::default()) else {
+        return;
+    };
+    session.enable_score();
+    let Ok(mut target) = Offscreen::new(&gpu, &session, 1280, 720) else {
+        return;
+    };
+    // The drug off its crystal pose, so that its ghost shows.
+    let nudge = |dx: f64| {
+        FrameInput::with_commands(&[Command::MoveBy {
+            translate: DVec3::new(dx, 0.0, 0.0),
+            axis: DVec3::Z,
+            degrees: 0.0,
+        }])
+    };
+    session.step(&nudge(2.0), 0.016);
+    let ghost = Some(Ghost::default());
+    let slab = Some(Slab::default());
+    let cases = [
+        ("none", None, None),
+        ("ghost", ghost, None),
+        ("slab", None, slab),
+        ("ghost+slab", ghost, slab),
+    ];
+    let mut g = c.benchmark_group(format!("fit_views_1280x720_{label}"));
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    for (name, ghost, slab) in cases {
+        let params = ViewParams {
+            ghost,
+            slab,
+            ..ViewParams::default()
+        };
+        let mut k = 0u64;
+        g.bench_function(BenchmarkId::new("moved_frame", name), |b| {
+            b.iter(|| {
+                k += 1;
+                let dx = if k.is_multiple_of(2) { 0.1 } else { -0.1 };
+                let out = session.step(&nudge(dx), 0.016);
+                assert!(
+                    out.changed && out.score.is_some(),
+                    "a moved frame is scored"
+                );
+                black_box(target.render(&gpu, &session, &params))
+            })
+        });
+    }
+    // A frame in which nothing moved computes nothing, views on or off.
+    let out = session.step(&FrameInput::default(), 0.016);
+    assert!(
+        !out.changed && out.score.is_none(),
+        "an idle frame computes nothing"
+    );
+    g.finish();
+}
+
+criterion_group!(benches, frames, cues_and_stereo, sticks, fit_views);
 criterion_main!(benches);
