@@ -22,6 +22,7 @@
 //! are the result, absolute times belong to the machine.
 
 mod accuracy;
+mod dockability;
 mod frames;
 mod layers;
 mod load;
@@ -47,6 +48,7 @@ const SECTIONS: &[&Section] = &[
     &frames::SECTION,
     &load::SECTION,
     &score::SECTION,
+    &dockability::SECTION,
 ];
 
 /// The report's first line; an existing file that does not start with it
