@@ -7,7 +7,8 @@
 //! compact groups ([`grouping`]); [`mod@check`] answers static queries;
 //! [`sweep`] moves the drug to touch without tunnelling; [`response`]
 //! turns a proposed step into the session's answer (stop, touch, slide,
-//! soft, pass), [`soft`] with the loosened index it needs; [`stats`]
+//! soft, pass), [`soft`] with the loosened index it needs; [`torsion`]
+//! turns one side of a rotatable bond without collisions; [`stats`]
 //! measures grid occupancy (the thesis's Table 1); [`layers`] names the
 //! optional layers that make queries fast, each of which can be turned off
 //! to measure what it saves. The exact f64 answers that tests and
@@ -26,6 +27,7 @@ pub mod rule;
 pub mod soft;
 pub mod stats;
 pub mod sweep;
+pub mod torsion;
 
 pub use check::{Pair, any_collision, check, min_gap, pairs_within};
 pub use collider::{Collider, ColliderKind};

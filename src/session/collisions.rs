@@ -66,12 +66,12 @@ fn shown_contacts(
 /// The environment of the selected molecule: all others.
 #[derive(Debug, Clone)]
 pub(super) struct Environment {
-    selected: usize,
+    pub(super) selected: usize,
     /// Pose of the collider's frame in the world: the molecule's pose for
     /// one molecule, the merged atoms' centre (no rotation) for several.
-    frame: Pose,
-    collider: Arc<Collider>,
-    drug: Arc<DrugAtoms>,
+    pub(super) frame: Pose,
+    pub(super) collider: Arc<Collider>,
+    pub(super) drug: Arc<DrugAtoms>,
     owners: Owners,
     /// The loosened index of the `soft` response, built on its first step
     /// (and again when its limit changes).
@@ -97,6 +97,38 @@ impl Owners {
 }
 
 impl Environment {
+    /// The selected molecule `mol` changed shape (its torsions turned):
+    /// its copies for the collider follow, grouped as `groups`; `copy` is
+    /// one already made for a receptor radius (used when it fits).
+    pub(super) fn reshaped(
+        &mut self,
+        mol: &Molecule,
+        rule: &crate::collide::ContactRule,
+        groups: &[u32],
+        copy: Option<(f32, Arc<DrugAtoms>)>,
+    ) {
+        let r = self.collider.max_radius();
+        self.drug = match copy {
+            Some((cr, atoms)) if cr.to_bits() == r.to_bits() => atoms,
+            _ => Arc::new(DrugAtoms::with_groups(mol, rule, r, groups.to_vec())),
+        };
+        if let Some(soft) = self.soft.as_mut() {
+            match Arc::get_mut(soft) {
+                Some(s) => {
+                    s.drug = DrugAtoms::with_groups(
+                        mol,
+                        &s.rule,
+                        s.collider.max_radius(),
+                        groups.to_vec(),
+                    );
+                }
+                // Shared with a clone of the session: built again when
+                // next needed.
+                None => self.soft = None,
+            }
+        }
+    }
+
     /// Pairs between the moving molecule `b` and the environment, as contacts
     /// between molecules.
     fn contacts(&self, b: usize, pairs: &[crate::collide::Pair]) -> Vec<Contact> {
@@ -127,7 +159,7 @@ impl Session {
     }
 
     /// Builds (or reuses) the environment of the selected molecule.
-    fn environment(&mut self) -> Option<&Environment> {
+    pub(super) fn environment(&mut self) -> Option<&Environment> {
         let stale = self
             .env
             .as_ref()
@@ -165,7 +197,7 @@ impl Session {
     /// The selected molecule's loosened index for the soft limit now,
     /// built if it is not (once per limit and environment, never per
     /// frame).
-    fn soft_index(&mut self) -> Option<Arc<SoftIndex>> {
+    pub(super) fn soft_index(&mut self) -> Option<Arc<SoftIndex>> {
         let limit = self.settings.soft_limit;
         let env = self.environment()?;
         if let Some(s) = &env.soft
@@ -201,7 +233,7 @@ impl Session {
     }
 
     /// Molecule `k`'s collider in its own frame, built on first use.
-    fn own_collider(&mut self, k: usize) -> Arc<Collider> {
+    pub(super) fn own_collider(&mut self, k: usize) -> Arc<Collider> {
         if let Some(Some(c)) = self.own_colliders.get(k) {
             return Arc::clone(c);
         }

@@ -1,6 +1,6 @@
 //! The session's commands: a [`Command`] applied to the session state (mode,
 //! selection, undo and redo, collision settings, the view, the soft
-//! limit), and selecting a molecule.
+//! limit, torsions and settle), and selecting a molecule.
 
 use super::*;
 
@@ -15,6 +15,12 @@ impl Session {
                 | Command::Redo
                 | Command::ResetMolecule
                 | Command::MoveBy { .. }
+                | Command::SelectTorsion(_)
+                | Command::NextTorsion
+                | Command::PreviousTorsion
+                | Command::SelectTorsionNear(_)
+                | Command::TurnTorsion { .. }
+                | Command::Settle
         );
         if molecule_command && self.bodies.is_empty() {
             out.messages.push("no molecule loaded yet".into());
@@ -65,20 +71,23 @@ impl Session {
                 };
             }
             Command::Undo => match self.history.undo() {
-                Some(m) => self.place(m.body, m.from, out),
+                Some(m) => self.place_shape(m.body, m.from, &m.from_torsions, out),
                 None => out.messages.push("nothing to undo".into()),
             },
             Command::Redo => match self.history.redo() {
-                Some(m) => self.place(m.body, m.to, out),
+                Some(m) => self.place_shape(m.body, m.to, &m.to_torsions, out),
                 None => out.messages.push("nothing to redo".into()),
             },
             Command::ResetMolecule => {
                 let b = self.selected;
                 let (from, to) = (self.bodies[b].pose, self.bodies[b].loaded);
+                let from_torsions = self.torsion_angles(b).to_vec();
+                let file = vec![0.0; from_torsions.len()];
                 self.history.close();
-                self.history.record(b, from, to);
+                self.history
+                    .record_shape(b, (from, &from_torsions), (to, &file));
                 self.history.close();
-                self.place(b, to, out);
+                self.place_shape(b, to, &file, out);
             }
             Command::ResetView => self.camera = self.home,
             Command::ViewDrug => self.view_drug(),
@@ -125,6 +134,16 @@ impl Session {
                 });
             }
             Command::SetSoftLimit(x) => self.set_soft_limit(x, out),
+            Command::SelectTorsion(k) => self.select_torsion(k, out),
+            Command::NextTorsion => self.cycle_torsion(true, out),
+            Command::PreviousTorsion => self.cycle_torsion(false, out),
+            Command::SelectTorsionNear(atom) => self.select_torsion_near(atom, out),
+            Command::TurnTorsion { degrees } => {
+                self.history.close();
+                self.turn_torsion(degrees.to_radians(), out);
+                self.history.close();
+            }
+            Command::Settle => self.settle_selected(out),
             Command::SoftLimitMore => {
                 self.set_soft_limit(self.settings.soft_limit + input::SOFT_LIMIT_STEP, out);
             }

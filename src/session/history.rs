@@ -2,12 +2,15 @@
 //!
 //! A continuous gesture (a held key, a joystick deflection, a mouse drag) is
 //! one entry, not one per frame: the session extends the open entry while the
-//! same molecule keeps moving and closes it when the input stops.
+//! same molecule keeps moving and closes it when the input stops. An entry
+//! that turned a drug's torsions carries its torsion angles before and after
+//! (a rigid move carries none), so undo restores the conformation too.
 
 use crate::motion::Pose;
 
-/// One undoable move: a molecule went from one pose to another.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One undoable move: a molecule went from one pose (and conformation) to
+/// another.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Move {
     /// Which molecule.
     pub body: usize,
@@ -15,6 +18,11 @@ pub struct Move {
     pub from: Pose,
     /// Its pose after.
     pub to: Pose,
+    /// Its torsion angles before (radians from the file's), when the move
+    /// turned any; empty for a rigid move.
+    pub from_torsions: Vec<f64>,
+    /// Its torsion angles after; empty for a rigid move.
+    pub to_torsions: Vec<f64>,
 }
 
 /// Undo and redo stacks with an open gesture.
@@ -37,8 +45,34 @@ impl History {
             last.to = to;
             return;
         }
-        self.done.push(Move { body, from, to });
+        self.done.push(Move {
+            body,
+            from,
+            to,
+            from_torsions: Vec::new(),
+            to_torsions: Vec::new(),
+        });
         self.open = true;
+    }
+
+    /// Records that `body` moved from `from` to `to` and its torsions
+    /// turned from `from_torsions` to `to_torsions`, extending the open
+    /// gesture when it is the same molecule.
+    pub fn record_shape(
+        &mut self,
+        body: usize,
+        (from, from_torsions): (Pose, &[f64]),
+        (to, to_torsions): (Pose, &[f64]),
+    ) {
+        self.record(body, from, to);
+        if let Some(last) = self.done.last_mut() {
+            if last.from_torsions.is_empty() {
+                // The entry's rigid moves so far left the torsions as they
+                // were before this turn.
+                last.from_torsions = from_torsions.to_vec();
+            }
+            last.to_torsions = to_torsions.to_vec();
+        }
     }
 
     /// Ends the open gesture: the next move starts a new entry.
@@ -50,7 +84,7 @@ impl History {
     pub fn undo(&mut self) -> Option<Move> {
         self.open = false;
         let m = self.done.pop()?;
-        self.undone.push(m);
+        self.undone.push(m.clone());
         Some(m)
     }
 
@@ -58,7 +92,7 @@ impl History {
     pub fn redo(&mut self) -> Option<Move> {
         self.open = false;
         let m = self.undone.pop()?;
-        self.done.push(m);
+        self.done.push(m.clone());
         Some(m)
     }
 

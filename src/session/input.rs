@@ -113,6 +113,29 @@ pub enum Command {
     SoftLimitMore,
     /// Let `soft` press less deep.
     SoftLimitLess,
+    /// Select rotatable bond `k` of the selected molecule's torsion tree
+    /// ([`super::Session::rotatable_bonds`]), or none.
+    SelectTorsion(Option<usize>),
+    /// Select the next rotatable bond (the first when none is selected).
+    NextTorsion,
+    /// Select the previous rotatable bond (the last when none is selected).
+    PreviousTorsion,
+    /// Select the rotatable bond nearest to atom `k` of the selected
+    /// molecule (a click on an atom): the bond whose middle is closest to
+    /// the atom, the lower index on a tie.
+    SelectTorsionNear(usize),
+    /// Turn the selected rotatable bond by an angle (its torsion grows by
+    /// it: the child side turns right-handed about the axis from the
+    /// parent atom to the child atom, relative to the parent side; the
+    /// smaller side is the one that moves), through the collision response.
+    TurnTorsion {
+        /// The turn, degrees.
+        degrees: f64,
+    },
+    /// Settle the selected drug: a local minimisation of its score over
+    /// its pose and torsions that never collides ([`crate::score::settle()`]);
+    /// one undoable move.
+    Settle,
 }
 
 /// How much [`Command::SoftLimitMore`] and [`Command::SoftLimitLess`]
@@ -132,6 +155,8 @@ impl Command {
                 | Command::CentreOnDrug
                 | Command::FitAll
                 | Command::MoveBy { .. }
+                | Command::TurnTorsion { .. }
+                | Command::Settle
         )
     }
 }
@@ -161,6 +186,13 @@ pub struct FrameInput {
     /// Zoom in mouse-wheel steps: the camera distance is multiplied by
     /// 0.9^zoom (positive comes closer).
     pub zoom: f64,
+    /// Continuous turn of the selected rotatable bond, degrees per second
+    /// (a held key, a joystick's torsion mode); scaled by `dt`.
+    pub torsion_velocity: f64,
+    /// A one-off turn of the selected rotatable bond, degrees (a mouse
+    /// drag); the turn of a frame is `torsion_velocity · dt +
+    /// torsion_nudge`, applied after the rigid motion.
+    pub torsion_nudge: f64,
     /// Discrete commands, applied in order before the motion.
     pub commands: Vec<Command>,
     /// Motion keys pressed and released in this frame, with their times:
@@ -208,11 +240,16 @@ impl FrameInput {
             && self.view_nudge.is_zero()
             && self.object_velocity.is_zero()
             && self.object_nudge.is_zero()
-            && self.zoom == 0.0)
+            && self.zoom == 0.0
+            && self.torsion_velocity == 0.0
+            && self.torsion_nudge == 0.0)
     }
 
     /// True while something moves continuously (a key held, a stick deflected).
     pub fn has_velocity(&self) -> bool {
-        !(self.velocity.is_zero() && self.view_velocity.is_zero() && self.object_velocity.is_zero())
+        !(self.velocity.is_zero()
+            && self.view_velocity.is_zero()
+            && self.object_velocity.is_zero()
+            && self.torsion_velocity == 0.0)
     }
 }

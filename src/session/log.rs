@@ -8,10 +8,10 @@
 //! without a window. Floats are written in Rust's shortest round-trip form,
 //! so they read back exactly.
 //!
-//! # Format, version 2
+//! # Format, version 3
 //!
 //! ```text
-//! bump-log 2
+//! bump-log 3
 //! # any comment line
 //! meta KEY VALUE...                      scene description (files, options)
 //! f DT [FIELD=VALUE]... ~CHECK           one frame
@@ -26,7 +26,12 @@
 //! and `k` (a motion key pressed or released, repeated, in order:
 //! `k=down:KEY:SIZE:AT` or `k=up:KEY:SIZE:AT`, KEY as `tx+` … `rz-`, SIZE
 //! `fine`, `normal` or `coarse`, AT the seconds into the frame; see
-//! [`super::keys`]). Version 2 added `k`; version 1 logs read as they are.
+//! [`super::keys`]), `tv` and `tn` (the selected rotatable bond's turn:
+//! degrees per second, and a one-off turn in degrees). Version 2 added
+//! `k`, version 3 `tv`, `tn` and the torsion and settle commands
+//! (`torsion:K` or `torsion:none`, `next-torsion`, `previous-torsion`,
+//! `torsion-near:ATOM`, `turn:DEGREES`, `settle`); older logs read as they
+//! are.
 //! `~CHECK` is the FNV-1a hash (32-bit, hex) of the line before ` ~`, so a
 //! damaged line is named. A log without its `end` line, or whose count
 //! disagrees, was cut short and is refused.
@@ -59,7 +64,7 @@ use crate::text::{excerpt, format_bytes, quoted, split_lines};
 pub const MAX_LOG_BYTES: u64 = 256 << 20;
 
 /// The format version this build writes (it reads this and every earlier one).
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 
 /// The oldest format version this build reads.
 pub const OLDEST_VERSION: u32 = 1;
@@ -367,6 +372,8 @@ fn parse_frame(body: &str) -> Result<LogFrame, String> {
             "ov" => input.object_velocity = motion(v)?,
             "on" => input.object_nudge = motion(v)?,
             "z" => input.zoom = num(v)?,
+            "tv" => input.torsion_velocity = num(v)?,
+            "tn" => input.torsion_nudge = num(v)?,
             "c" => input.commands.push(parse_command(v)?),
             "k" => input.keys.push(parse_key(v)?),
             _ => return Err(format!("unknown frame field {}", quoted(k))),
@@ -474,6 +481,13 @@ pub fn command_token(c: &Command) -> String {
         Command::SetSoftLimit(x) => format!("soft-limit:{x:?}"),
         Command::SoftLimitMore => "soft-more".into(),
         Command::SoftLimitLess => "soft-less".into(),
+        Command::SelectTorsion(Some(k)) => format!("torsion:{k}"),
+        Command::SelectTorsion(None) => "torsion:none".into(),
+        Command::NextTorsion => "next-torsion".into(),
+        Command::PreviousTorsion => "previous-torsion".into(),
+        Command::SelectTorsionNear(a) => format!("torsion-near:{a}"),
+        Command::TurnTorsion { degrees } => format!("turn:{degrees:?}"),
+        Command::Settle => "settle".into(),
     }
 }
 
@@ -530,6 +544,21 @@ pub fn parse_command(tok: &str) -> Result<Command, String> {
             .map_err(|_| format!("{}: soft-limit needs a number of Å", quoted(tok))),
         "soft-more" => no_arg(Command::SoftLimitMore),
         "soft-less" => no_arg(Command::SoftLimitLess),
+        "torsion" if arg == "none" => Ok(Command::SelectTorsion(None)),
+        "torsion" => arg
+            .parse()
+            .map(|k| Command::SelectTorsion(Some(k)))
+            .map_err(|_| format!("{}: torsion needs a bond index or `none`", quoted(tok))),
+        "next-torsion" => no_arg(Command::NextTorsion),
+        "previous-torsion" => no_arg(Command::PreviousTorsion),
+        "torsion-near" => arg
+            .parse()
+            .map(Command::SelectTorsionNear)
+            .map_err(|_| format!("{}: torsion-near needs an atom index", quoted(tok))),
+        "turn" => num(arg)
+            .map(|degrees| Command::TurnTorsion { degrees })
+            .map_err(|e| format!("{}: turn needs degrees: {e}", quoted(tok))),
+        "settle" => no_arg(Command::Settle),
         _ => Err(format!("unknown command {}", quoted(tok))),
     }
 }
@@ -556,6 +585,12 @@ pub fn frame_line(dt: f64, input: &FrameInput) -> String {
     push_motion(&mut line, "on", &input.object_nudge);
     if input.zoom != 0.0 {
         let _ = write!(line, " z={:?}", input.zoom);
+    }
+    if input.torsion_velocity != 0.0 {
+        let _ = write!(line, " tv={:?}", input.torsion_velocity);
+    }
+    if input.torsion_nudge != 0.0 {
+        let _ = write!(line, " tn={:?}", input.torsion_nudge);
     }
     for c in &input.commands {
         let _ = write!(line, " c={}", command_token(c));
@@ -720,6 +755,8 @@ mod tests {
                         object_velocity: odd.scaled(0.5),
                         object_nudge: odd,
                         zoom: -2.5,
+                        torsion_velocity: 0.1,
+                        torsion_nudge: -7.0,
                         commands: vec![
                             Command::ToggleMode,
                             Command::NextMolecule,
@@ -855,7 +892,32 @@ mod tests {
         let log = SessionLog::parse(&text, Path::new("old.log")).unwrap();
         assert_eq!(log.frames[0].input.commands, [Command::ToggleMode]);
         assert!(log.frames[0].input.keys.is_empty());
-        assert!(to_text(&log).starts_with("bump-log 2\n"));
+        assert!(to_text(&log).starts_with("bump-log 3\n"));
+    }
+
+    #[test]
+    fn torsion_fields_and_commands_round_trip() {
+        let input = FrameInput {
+            torsion_velocity: 45.5,
+            torsion_nudge: -3.25,
+            commands: vec![
+                Command::SelectTorsion(Some(2)),
+                Command::SelectTorsion(None),
+                Command::NextTorsion,
+                Command::PreviousTorsion,
+                Command::SelectTorsionNear(7),
+                Command::TurnTorsion { degrees: -0.1 },
+                Command::Settle,
+            ],
+            ..FrameInput::default()
+        };
+        let line = frame_line(0.016, &input);
+        let text = format!("bump-log 3\n{line}\nend 1\n");
+        let log = SessionLog::parse(&text, Path::new("t.log")).unwrap();
+        assert_eq!(log.frames[0].input, input);
+        let frame = with_check("f 0.5 c=turn:nan".to_string());
+        let text = format!("bump-log 3\n{frame}\nend 1\n");
+        assert!(SessionLog::parse(&text, Path::new("t.log")).is_err());
     }
 
     #[test]

@@ -35,6 +35,7 @@ pub mod replay;
 pub mod score;
 pub mod steer;
 pub mod timing;
+pub mod torsion;
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -53,6 +54,7 @@ pub use log::{LogError, LogFrame, LogWriter, SessionLog};
 pub use replay::{Replayed, replay};
 pub use score::LiveScore;
 pub use timing::{Summary, Timing};
+pub use torsion::{Reshaped, SettlePath, TorsionBond, TorsionError};
 
 use crate::collide::{
     Collider, ColliderKind, ContactRule, DrugAtoms, Method, Response, TouchOptions,
@@ -182,6 +184,12 @@ pub struct FrameOutcome {
     /// The live score, when it was computed this frame (the drug moved
     /// relative to the receptor; see [`score`]).
     pub score: Option<Arc<LiveScore>>,
+    /// Molecules whose local positions changed this frame (torsions
+    /// turned, undone, reset or settled), with the atoms that changed.
+    pub reshaped: Vec<Reshaped>,
+    /// A settle this frame ran, for the window to animate (the session is
+    /// already at its end).
+    pub settled: Option<Arc<SettlePath>>,
 }
 
 impl FrameOutcome {
@@ -239,6 +247,11 @@ pub struct Session {
     saved: Vec<Pose>,
     /// The live score (off until [`Session::enable_score`]).
     live: score::LiveScoring,
+    /// Per molecule: its conformation, when it is a flexible drug.
+    flex: Vec<Option<torsion::Flex>>,
+    /// The receptor's typed atoms for settle: (molecule, its shape
+    /// generation, the atoms).
+    typed_receptor: Option<(usize, u64, Arc<crate::score::Receptor>)>,
 }
 
 impl Session {
@@ -285,6 +298,10 @@ impl Session {
         let moving_atoms = vec![None; bodies.len()];
         let roles = bodies.iter().map(|b| Role::of(&b.molecule)).collect();
         let saved = bodies.iter().map(|b| b.pose).collect();
+        let flex = bodies
+            .iter()
+            .map(|b| torsion::Flex::of(&b.molecule))
+            .collect();
         Self {
             bodies,
             selected,
@@ -303,6 +320,8 @@ impl Session {
             roles,
             saved,
             live: score::LiveScoring::default(),
+            flex,
+            typed_receptor: None,
         }
     }
 
@@ -354,17 +373,27 @@ impl Session {
         Some(last.unwrap_or(self.selected))
     }
 
-    /// The molecules moved since they were loaded or last saved.
+    /// The molecules moved (or turned at a torsion) since they were loaded
+    /// or last saved.
     pub fn unsaved(&self) -> Vec<usize> {
+        let turned = |k: usize| {
+            self.flex
+                .get(k)
+                .and_then(Option::as_ref)
+                .is_some_and(|f| f.saved != f.torsions)
+        };
         (0..self.bodies.len())
-            .filter(|&k| self.saved.get(k) != Some(&self.bodies[k].pose))
+            .filter(|&k| self.saved.get(k) != Some(&self.bodies[k].pose) || turned(k))
             .collect()
     }
 
-    /// Notes that molecule `b` was saved where it stands now.
+    /// Notes that molecule `b` was saved where it stands now, as it is now.
     pub fn mark_saved(&mut self, b: usize) {
         if let (Some(s), Some(body)) = (self.saved.get_mut(b), self.bodies.get(b)) {
             *s = body.pose;
+        }
+        if let Some(Some(f)) = self.flex.get_mut(b) {
+            f.saved.clone_from(&f.torsions);
         }
     }
 
@@ -374,6 +403,7 @@ impl Session {
         let pose = Pose::from_translation(molecule.centre);
         self.highlighted.push(vec![false; molecule.len()]);
         self.roles.push(Role::of(&molecule));
+        self.flex.push(torsion::Flex::of(&molecule));
         self.bodies.push(Body {
             molecule,
             pose,
@@ -512,22 +542,41 @@ impl Session {
             .plus(&input.object_velocity.scaled(dt))
             .plus(&input.object_nudge);
         self.move_view(&view, input.zoom, &mut out);
+        let turn = input.torsion_velocity * dt + input.torsion_nudge;
+        let turning = turn != 0.0 && !self.bodies.is_empty();
         if self.bodies.is_empty() {
             // Nothing to move but the view.
         } else if !object.is_finite() {
             out.messages.push("ignored a non-finite motion".into());
         } else if object.is_zero() {
-            // A held key's repeats are one gesture: undo takes them back
-            // together.
-            if !self.keys.any_held() {
+            // A held key's repeats are one gesture, and so is a turn
+            // held: undo takes them back together.
+            if !self.keys.any_held() && !turning {
                 self.history.close();
             }
         } else {
             let (translate, axis, angle) = self.to_world(&object);
             self.move_selected(translate, axis, angle, &mut out);
         }
+        if turning {
+            self.turn_torsion(turn.to_radians(), &mut out);
+        }
         self.update_score(&mut out);
         out
+    }
+
+    /// With collision on, builds what the next frames' response needs now
+    /// (the selected molecule's environment, and for `soft` its loosened
+    /// index) and waits for the collider's clearance map, so that no frame
+    /// of a run pays for them: for steering runs and benchmarks.
+    pub fn prepare_response(&mut self) {
+        if !self.settings.collision {
+            return;
+        }
+        if self.settings.response == crate::collide::Response::Soft {
+            let _ = self.soft_index();
+        }
+        self.wait_for_collider();
     }
 
     /// Scores the drug if it moved relative to the receptor this frame.
@@ -540,6 +589,7 @@ impl Session {
         out.score = self.live.update(
             out.changed,
             &self.bodies,
+            &self.flex,
             drug,
             |k| roles.get(k).copied().flatten(),
             &mut out.messages,
@@ -562,7 +612,7 @@ impl Session {
     /// reference for the RMSD and the ghost; `false` when there is no live
     /// score yet. The next frame scores again.
     pub fn pin_reference(&mut self) -> bool {
-        self.live.pin(&self.bodies)
+        self.live.pin(&self.bodies, &self.flex)
     }
 
     /// The reference pose: (drug, receptor, the drug's pose relative to the

@@ -19,11 +19,14 @@ use std::time::Instant;
 
 use glam::DVec3;
 
+use super::torsion::Flex;
 use super::{Body, Role};
 use crate::model::element::is_hydrogen;
 use crate::motion::Pose;
 use crate::score::contrib::receptor_contributions;
-use crate::score::{Evaluator, Exact, Ligand, Receptor, Score, Scoring, prepare, score};
+use crate::score::{
+    Conformation, Evaluator, Exact, Ligand, Receptor, Score, Scoring, prepare, score,
+};
 
 /// One frame's score of the drug against the receptor.
 #[derive(Debug, Clone)]
@@ -61,8 +64,8 @@ struct Prepared {
     receptor: usize,
     ligand: Arc<Ligand>,
     atoms: Arc<Receptor>,
-    /// Heavy atoms of the drug (for the RMSD).
-    heavy: Arc<Vec<DVec3>>,
+    /// The drug's heavy atoms (for the RMSD).
+    heavy: Arc<Vec<usize>>,
 }
 
 /// The live score's state in a session.
@@ -72,10 +75,10 @@ pub(super) struct LiveScoring {
     prepared: Option<Prepared>,
     /// Set when the molecules changed: the next frame prepares and scores.
     stale: bool,
-    /// The relative pose last scored.
-    scored_at: Option<Pose>,
-    /// The pinned reference (relative pose), if any.
-    pinned: Option<Pose>,
+    /// The relative pose and drug shape (its generation) last scored.
+    scored_at: Option<(Pose, u64)>,
+    /// The pinned reference (relative pose and torsions), if any.
+    pinned: Option<(Pose, Vec<f64>)>,
     last: Option<Arc<LiveScore>>,
     /// The last failure, said once.
     failed: bool,
@@ -94,6 +97,23 @@ fn pair(
         .find(|&k| role(k) == Some(Role::Receptor))
         .or_else(|| others().next())?;
     Some((d, r))
+}
+
+/// The torsions drug `d` is at (the file's when it is not flexible).
+fn torsions_of(flex: &[Option<Flex>], d: usize, ligand: &Ligand) -> Vec<f64> {
+    match flex.get(d).and_then(Option::as_ref) {
+        Some(f) if f.torsions.len() == ligand.torsions() => f.torsions.clone(),
+        _ => vec![0.0; ligand.torsions()],
+    }
+}
+
+/// RMSD over the atoms `heavy` between two placements of them.
+fn rmsd_of(heavy: &[usize], a: &[DVec3], b: &[DVec3]) -> f64 {
+    if heavy.is_empty() {
+        return 0.0;
+    }
+    let sum: f64 = heavy.iter().map(|&i| (a[i] - b[i]).length_squared()).sum();
+    (sum / heavy.len() as f64).sqrt()
 }
 
 /// Heavy-atom RMSD between the same local atoms placed by `a` and by `b`.
@@ -132,8 +152,9 @@ impl LiveScoring {
         self.last.as_ref()
     }
 
-    /// Pins the drug's current pose as the reference; `false` without a score.
-    pub(super) fn pin(&mut self, bodies: &[Body]) -> bool {
+    /// Pins the drug's current pose and conformation as the reference;
+    /// `false` without a score.
+    pub(super) fn pin(&mut self, bodies: &[Body], flex: &[Option<Flex>]) -> bool {
         let Some(p) = &self.prepared else {
             return false;
         };
@@ -141,7 +162,7 @@ impl LiveScoring {
             .pose
             .inverse()
             .compose(&bodies[p.drug].pose);
-        self.pinned = Some(rel);
+        self.pinned = Some((rel, torsions_of(flex, p.drug, &p.ligand)));
         self.stale = true;
         true
     }
@@ -153,7 +174,11 @@ impl LiveScoring {
             .loaded
             .inverse()
             .compose(&bodies[p.drug].loaded);
-        Some((p.drug, p.receptor, self.pinned.unwrap_or(file)))
+        Some((
+            p.drug,
+            p.receptor,
+            self.pinned.as_ref().map_or(file, |x| x.0),
+        ))
     }
 
     /// Scores the drug when it moved relative to the receptor (or the
@@ -163,6 +188,7 @@ impl LiveScoring {
         &mut self,
         changed: bool,
         bodies: &[Body],
+        flex: &[Option<Flex>],
         drug: Option<usize>,
         role: impl Fn(usize) -> Option<Role>,
         messages: &mut Vec<String>,
@@ -179,20 +205,26 @@ impl LiveScoring {
             self.prepared = None;
             self.scored_at = None;
             self.pinned = None;
-            match prepare::ligand(&bodies[d].molecule) {
+            // A flexible drug's ligand is prepared from its file shape, and
+            // scored at its torsions.
+            let ligand = match flex.get(d).and_then(Option::as_ref) {
+                Some(f) => Ok(Arc::clone(&f.ligand)),
+                None => prepare::ligand(&bodies[d].molecule).map(Arc::new),
+            };
+            match ligand {
                 Ok(l) => {
                     let m = &bodies[d].molecule;
                     let heavy = m
-                        .local
+                        .atoms
                         .iter()
-                        .zip(&m.atoms)
+                        .enumerate()
                         .filter(|(_, a)| !is_hydrogen(&a.element))
-                        .map(|(p, _)| p.as_dvec3())
+                        .map(|(i, _)| i)
                         .collect();
                     self.prepared = Some(Prepared {
                         drug: d,
                         receptor: r,
-                        ligand: Arc::new(l),
+                        ligand: l,
                         atoms: Arc::new(prepare::receptor(&bodies[r].molecule)),
                         heavy: Arc::new(heavy),
                     });
@@ -209,26 +241,39 @@ impl LiveScoring {
         }
         let p = self.prepared.as_ref()?;
         let rel = bodies[r].pose.inverse().compose(&bodies[d].pose);
-        if !self.stale && self.scored_at == Some(rel) {
+        let generation = flex
+            .get(d)
+            .and_then(Option::as_ref)
+            .map_or(0, |f| f.generation);
+        if !self.stale && self.scored_at == Some((rel, generation)) {
             return None;
         }
         self.stale = false;
-        self.scored_at = Some(rel);
+        self.scored_at = Some((rel, generation));
         let t0 = Instant::now();
         let exact = Exact::new(&p.atoms, Scoring::Vina);
-        let conf = p.ligand.rigid(rel);
+        let conf = Conformation {
+            pose: rel,
+            torsions: torsions_of(flex, d, &p.ligand),
+        };
         let s = score(&exact, Evaluator::Exact, &exact, &p.ligand, &conf);
         let x = p.ligand.place(&conf);
         let receptor_atoms = receptor_contributions(&exact, &p.ligand, &x);
         let file = bodies[r].loaded.inverse().compose(&bodies[d].loaded);
-        let reference = self.pinned.unwrap_or(file);
+        let reference = match &self.pinned {
+            Some((pose, torsions)) => p.ligand.place(&Conformation {
+                pose: *pose,
+                torsions: torsions.clone(),
+            }),
+            None => p.ligand.place(&p.ligand.rigid(file)),
+        };
         let live = Arc::new(LiveScore {
             drug: d,
             receptor: r,
             score: s,
             receptor_atoms,
             rotatable: p.ligand.torsions(),
-            rmsd: rmsd(&p.heavy, &rel, &reference),
+            rmsd: rmsd_of(&p.heavy, &x, &reference),
             pinned: self.pinned.is_some(),
             micros: t0.elapsed().as_secs_f64() * 1e6,
         });
