@@ -1,9 +1,10 @@
 //! Dockability: can the fixed steering controller of `bump steer`
 //! ([`bump::session::steer`]) bring each shared drug from outside into its
 //! pocket, under each collision response? 32 start directions per complex
-//! (a Fibonacci sphere), every response, rigid; success rate (heavy-atom
+//! (a Fibonacci sphere), every response, rigid and flexible; success rate (heavy-atom
 //! RMSD ≤ 2 Å at some frame), median frames to get there, the deepest
-//! overlap beyond the contact rule, and the soft step's time.
+//! overlap beyond the contact rule, the steps' time; then, for soft
+//! flexible, the session's settle (RMSD after it, collision-free count).
 //!
 //! The runs are split over the machine's cores by direction (each run is
 //! its own session, seeded and deterministic), and gathered in direction
@@ -20,7 +21,7 @@ use std::time::Instant;
 use bump::collide::{ContactRule, Response};
 use bump::model::{self, Hydrogens, LigandSpec, LoadOptions, Molecule, RadiiSet};
 use bump::session::Settings;
-use bump::session::steer::{SteerReport, steer};
+use bump::session::steer::{SteerOptions, SteerReport, steer};
 use glam::DVec3;
 
 use super::timing::{Progress, median, quantile};
@@ -78,19 +79,6 @@ fn steps(ctx: &Context) -> usize {
     }
 }
 
-/// `n` unit vectors spread evenly over the sphere (the Fibonacci lattice).
-pub fn fibonacci(n: usize) -> Vec<DVec3> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let r = (1.0 - y * y).max(0.0).sqrt();
-            let phi = golden * i as f64;
-            DVec3::new(r * phi.cos(), y, r * phi.sin())
-        })
-        .collect()
-}
-
 /// Loads a complex as the command line does (Bondi radii, hydrogens
 /// dropped): (receptor, drug).
 fn load(dir: &Path, receptor: &str, drug: Drug) -> Result<(Molecule, Molecule), String> {
@@ -120,7 +108,7 @@ type Run = Option<SteerReport>;
 
 /// Every direction under `response`, over the machine's cores, in
 /// direction order.
-fn runs(receptor: &Molecule, drug: &Molecule, dirs: &[DVec3], response: Response) -> Vec<Run> {
+fn runs(receptor: &Molecule, drug: &Molecule, dirs: &[DVec3], opts: SteerOptions) -> Vec<Run> {
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .clamp(1, dirs.len().max(1));
@@ -136,9 +124,13 @@ fn runs(receptor: &Molecule, drug: &Molecule, dirs: &[DVec3], response: Response
                                 rule: ContactRule::default(),
                                 ..Settings::default()
                             };
-                            let r =
-                                steer(receptor.clone(), drug.clone(), settings, dirs[k], response)
-                                    .ok();
+                            // Each direction its own seed of the start's torsions.
+                            let opts = SteerOptions {
+                                seed: k as u64 + 1,
+                                ..opts
+                            };
+                            let r = steer(receptor.clone(), drug.clone(), settings, dirs[k], &opts)
+                                .ok();
                             (k, r)
                         })
                         .collect::<Vec<_>>()
@@ -156,10 +148,11 @@ fn runs(receptor: &Molecule, drug: &Molecule, dirs: &[DVec3], response: Response
     out
 }
 
-/// One row of the table: a complex under one response.
+/// One row of the table: a complex under one response, rigid or flexible.
 struct Row {
     complex: &'static str,
     response: Response,
+    flexible: bool,
     starts: usize,
     reached: usize,
     median_frames: Option<f64>,
@@ -167,9 +160,11 @@ struct Row {
     least_deepest: f64,
     step_median: f64,
     step_p99: f64,
+    /// Runs settled, median settled RMSD, collision-free after settle.
+    settled: Option<(usize, f64, usize)>,
 }
 
-fn summarise(complex: &'static str, response: Response, runs: &[Run]) -> Row {
+fn summarise(complex: &'static str, opts: SteerOptions, runs: &[Run]) -> Row {
     let done: Vec<&SteerReport> = runs.iter().flatten().collect();
     let frames: Vec<f64> = done
         .iter()
@@ -179,9 +174,19 @@ fn summarise(complex: &'static str, response: Response, runs: &[Run]) -> Row {
         .iter()
         .flat_map(|r| r.step_us.iter().copied())
         .collect();
+    let settled: Vec<_> = done.iter().filter_map(|r| r.settled.as_ref()).collect();
+    let settled_rmsd: Vec<f64> = settled.iter().map(|s| s.rmsd).collect();
     Row {
         complex,
-        response,
+        response: opts.response,
+        flexible: opts.flexible,
+        settled: opts.settle.then(|| {
+            (
+                settled.len(),
+                median(&settled_rmsd),
+                settled.iter().filter(|s| !s.collides).count(),
+            )
+        }),
         starts: done.len(),
         reached: done.iter().filter(|r| r.reached).count(),
         median_frames: (!frames.is_empty()).then(|| median(&frames)),
@@ -209,7 +214,7 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
         (true, false) => QUICK_DIRECTIONS,
         (false, false) => DIRECTIONS,
     };
-    let dirs = fibonacci(n);
+    let dirs = bump::rng::sphere_directions(n);
     let t0 = Instant::now();
     let mut rows = Vec::new();
     let mut skipped = Vec::new();
@@ -226,32 +231,51 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
                 continue;
             }
         };
-        for response in RESPONSES {
-            let r = runs(&receptor, &drug, &dirs, response);
-            rows.push(summarise(label, response, &r));
+        for flexible in [false, true] {
+            for response in RESPONSES {
+                // The soft flexible runs settle at the end.
+                let opts = SteerOptions {
+                    response,
+                    flexible,
+                    settle: flexible && response == Response::Soft,
+                    seed: 1,
+                };
+                let r = runs(&receptor, &drug, &dirs, opts);
+                rows.push(summarise(label, opts, &r));
+            }
         }
     }
     let seconds = t0.elapsed().as_secs_f64();
     md.push_str(&format!(
         "The controller of `bump steer` (issue 44): from the first pose along a direction at \
          least 8 Å from the file pose's centre where the drug, turned 30°, is clear of the \
-         receptor by 3 Å, each frame proposes at most 0.3 Å and 3° towards the file pose \
-         through the response, for at most 3000 frames; *reached* is a heavy-atom RMSD ≤ 2 Å \
-         at some frame. {n} Fibonacci directions per complex, rigid drug, Bondi radii, \
-         hydrogens dropped, the default contact rule (overlap 0.6 Å, H-bond allowance 0.4 Å), \
-         soft limit 1 Å. *Frames* is the median frame at which the runs that got there got \
-         there; *deepest* the deepest overlap beyond the contact rule over every run; *least \
-         deepest* the least of the runs' deepest overlaps (under `pass`, how far the best \
-         straight path from outside presses into the receptor). Step times are the collision \
-         response's, per frame, over every run. {} runs in {seconds:.0} s.\n\n\
-         | complex | response | starts | reached | rate | frames (median) | deepest Å | least deepest Å | step µs (median) | step µs (p99) |\n\
-         | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+         receptor by 3 Å (flexible: each rotatable bond first turned 60° either way, seeded by \
+         the direction's number), each frame proposes at most 0.3 Å and 3° towards the file \
+         pose (flexible: and 5° per bond towards its file angle) through the response, for at \
+         most 3000 frames; *reached* is a heavy-atom RMSD ≤ 2 Å to the file pose at some \
+         frame. {n} Fibonacci directions per complex, Bondi radii, hydrogens dropped, the \
+         default contact rule (overlap 0.6 Å, H-bond allowance 0.4 Å), soft limit 1 Å. \
+         *Frames* is the median frame at which the runs that got there got there; *deepest* \
+         the deepest overlap beyond the contact rule over every run; *least deepest* the least \
+         of the runs' deepest overlaps (under `pass`, collision off, how far the best straight \
+         path from outside presses into the receptor: more than the soft limit means no \
+         response that keeps to it can follow a straight path in). Step times are each \
+         collision response's (a rigid move or one bond's turn), over every run. The soft \
+         flexible runs then settle (the session's settle, exact Vina): the median heavy-atom \
+         RMSD after settle and how many end free of overlaps. {} runs in {seconds:.0} s.\n\n\
+         | complex | drug | response | starts | reached | rate | frames (median) | deepest Å | least deepest Å | step µs (median) | step µs (p99) | settled RMSD Å (median) | settled collision-free |\n\
+         | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
         rows.iter().map(|r| r.starts).sum::<usize>()
     ));
     for r in &rows {
+        let (settled_rmsd, free) = match r.settled {
+            Some((k, rmsd, free)) if k > 0 => (format!("{rmsd:.2}"), format!("{free} of {k}")),
+            _ => ("–".to_string(), "–".to_string()),
+        };
         md.push_str(&format!(
-            "| {} | {} | {} | {} | {:.0} % | {} | {:.2} | {:.2} | {:.1} | {:.1} |\n",
+            "| {} | {} | {} | {} | {} | {:.0} % | {} | {:.2} | {:.2} | {:.1} | {:.1} | {settled_rmsd} | {free} |\n",
             r.complex,
+            if r.flexible { "flexible" } else { "rigid" },
             r.response.name(),
             r.starts,
             r.reached,
@@ -273,14 +297,13 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
     }
     let headline = rows
         .iter()
-        .filter(|r| r.response == Response::Soft)
+        .filter(|r| r.response == Response::Soft && r.flexible)
         .map(|r| {
             format!(
-                "Dockability, soft (rigid): {} reached from {} of {} starts",
+                "Dockability, soft flexible: {} reached from {} of {} starts",
                 r.complex, r.reached, r.starts
             )
         })
-        .take(1)
         .collect();
     Part {
         markdown: md,
@@ -308,16 +331,24 @@ fn figure(rows: &[Row]) -> String {
         }
         v
     };
-    let bars: Vec<(String, Vec<f64>)> = RESPONSES
-        .iter()
-        .map(|&resp| {
+    let bars: Vec<(String, Vec<f64>)> = [false, true]
+        .into_iter()
+        .flat_map(|flexible| RESPONSES.iter().map(move |&resp| (flexible, resp)))
+        .filter(|&(flexible, resp)| !flexible || matches!(resp, Response::Slide | Response::Soft))
+        .map(|(flexible, resp)| {
             (
-                resp.name().to_string(),
+                format!(
+                    "{}{}",
+                    resp.name(),
+                    if flexible { " (flexible)" } else { "" }
+                ),
                 complexes
                     .iter()
                     .map(|c| {
                         rows.iter()
-                            .find(|r| r.complex == *c && r.response == resp)
+                            .find(|r| {
+                                r.complex == *c && r.response == resp && r.flexible == flexible
+                            })
                             .map_or(0.0, rate)
                     })
                     .collect(),
