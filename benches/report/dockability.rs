@@ -207,10 +207,10 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
         return Part::text(md);
     };
     // A smoke run (fewer queries than the quick directions) measures the
-    // first complex only, with that many directions.
+    // first complex only, from one direction.
     let smoke = ctx.queries < QUICK_DIRECTIONS;
     let n = match (ctx.quick, smoke) {
-        (_, true) => ctx.queries.max(1),
+        (_, true) => 1,
         (true, false) => QUICK_DIRECTIONS,
         (false, false) => DIRECTIONS,
     };

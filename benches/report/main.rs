@@ -363,6 +363,7 @@ fn check_smoke(dir: &Path, out: &Path) -> Result<(), String> {
             "| 1rx1.pdb | 1317 |",
             "## bump against parry3d",
             "## The thesis's Table 1",
+            "| 6xg5/TOP | flexible | soft | 1 |",
         ]);
     }
     for w in want {
