@@ -311,6 +311,7 @@ fn settle_in_the_session_never_ends_colliding_and_undoes() {
     let Some(dir) = shared_pdb() else {
         return;
     };
+    let mut settled = 0;
     for &id in &["6xg5_TOP", "3ptb_BEN", "1s3v_TQD"] {
         let mut s = docking(&dir, id, Response::Touch);
         let judge = Judge::new(&s);
@@ -336,7 +337,14 @@ fn settle_in_the_session_never_ends_colliding_and_undoes() {
         let before_pose = s.bodies()[1].pose;
         let before_local = s.bodies()[1].molecule.local.clone();
         let out = s.step(&FrameInput::with_commands(&[Command::Settle]), 0.0);
-        let path = out.settled.clone().expect("settle ran");
+        let Some(path) = out.settled.clone() else {
+            // Settle found no step: nothing changed.
+            assert_eq!(s.bodies()[1].pose, before_pose, "{id}: {:?}", out.messages);
+            assert_eq!(s.bodies()[1].molecule.local, before_local);
+            eprintln!("{id}: {:?}", out.messages);
+            continue;
+        };
+        settled += 1;
         let d = &s.bodies()[1];
         assert_eq!(path.to, d.pose);
         assert_eq!(path.to_torsions, s.torsion_angles(1));
@@ -352,6 +360,7 @@ fn settle_in_the_session_never_ends_colliding_and_undoes() {
         assert_eq!(s.bodies()[1].pose, before_pose);
         assert_eq!(s.bodies()[1].molecule.local, before_local);
     }
+    assert!(settled >= 2, "settle moved only {settled} of 3 drugs");
 }
 
 #[test]
@@ -413,11 +422,14 @@ fn a_session_with_soft_contacts_torsions_and_settle_replays_bit_for_bit() {
     assert_eq!(read, log);
     let _ = frame_line;
     let run = |log: &SessionLog| {
-        let mut s = docking(&dir, id, Response::Touch);
+        let (receptor, drug) = load_complex(&dir, id);
+        let mut s = Session::new(vec![receptor, drug], Settings::default()).unwrap();
         let mut settled = 0;
         let mut turned = 0;
         let mut soft_pressed = false;
+        let mut frames = Vec::new();
         replay(&mut s, log, |_, out| {
+            frames.push((out.t, out.contacts.len(), out.reshaped.clone()));
             settled += usize::from(out.settled.is_some());
             turned += usize::from(!out.reshaped.is_empty());
             soft_pressed |= out.resistance > 0.0;
@@ -429,6 +441,7 @@ fn a_session_with_soft_contacts_torsions_and_settle_replays_bit_for_bit() {
             settled,
             turned,
             soft_pressed,
+            frames,
         )
     };
     let a = run(&log);
@@ -436,10 +449,11 @@ fn a_session_with_soft_contacts_torsions_and_settle_replays_bit_for_bit() {
     assert_eq!(a.0, b.0);
     assert_eq!(a.1, b.1);
     assert_eq!(a.2, b.2);
+    assert_eq!(a.6, b.6, "every frame's outcome is the same");
     assert_eq!(a.3, 1, "settle ran once");
     assert!(a.4 > 5, "the torsions turned in {} frames", a.4);
     assert!(a.2.iter().any(|&t| t != 0.0));
-    eprintln!("soft pressed: {}", a.5);
+    assert!(a.5, "the soft response pressed into the receptor");
 }
 
 /// Median and p99 of a torsion step (a turn of up to 5° of a random bond
@@ -480,4 +494,85 @@ fn torsion_step_timing() {
             q(1.0)
         );
     }
+}
+
+#[test]
+fn saving_writes_the_current_conformation() {
+    let Some(dir) = shared_pdb() else {
+        return;
+    };
+    let (receptor, drug) = load_complex(&dir, "1s3v_TQD");
+    let mut s = Session::new(vec![receptor, drug], Settings::default()).unwrap();
+    s.step(
+        &FrameInput::with_commands(&[
+            Command::SelectTorsion(Some(0)),
+            Command::TurnTorsion { degrees: 90.0 },
+            Command::NextTorsion,
+            Command::TurnTorsion { degrees: -120.0 },
+        ]),
+        0.0,
+    );
+    assert!(s.torsion_angles(1).iter().any(|&t| t != 0.0));
+    assert_eq!(s.unsaved(), [1]);
+    // What Ctrl+S writes: the drug in the receptor's frame.
+    let pose = s.pose_in_frame_of(1, 0).unwrap();
+    let mol = &s.bodies()[1].molecule;
+    let path = std::env::temp_dir().join(format!("bump-flexible-{}.sdf", std::process::id()));
+    bump::model::write::write_sdf(mol, &pose, &path).unwrap();
+    let back = bump::model::load(&path, &bump::model::LoadOptions::default()).unwrap();
+    let back = bump::model::receptor_only(&back.structure).unwrap();
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(back.len(), mol.len());
+    let want: Vec<DVec3> = mol
+        .local
+        .iter()
+        .map(|p| pose.transform_point(p.as_dvec3()))
+        .collect();
+    let file = s
+        .shape_at(1, &vec![0.0; s.torsion_angles(1).len()])
+        .unwrap()
+        .0;
+    let mut differs = 0;
+    for (i, p) in back.file_positions().iter().enumerate() {
+        assert!(
+            (*p - want[i]).length() < 1e-3,
+            "atom {i} saved at {p}, is at {}",
+            want[i]
+        );
+        differs += usize::from((file[i] - mol.local[i]).length() > 0.1);
+    }
+    assert!(differs > 0, "the saved conformation is the file's");
+    s.mark_saved(1);
+    assert!(s.unsaved().is_empty());
+}
+
+#[test]
+fn torsions_set_directly_are_checked_and_home_undoes_them() {
+    use bump::session::TorsionError;
+    let Some(dir) = shared_pdb() else {
+        return;
+    };
+    let (receptor, drug) = load_complex(&dir, "6xg5_TOP");
+    let mut s = Session::new(vec![receptor, drug], Settings::default()).unwrap();
+    let n = s.rotatable_bonds(1).len();
+    assert!(s.rotatable_bonds(0).is_empty(), "the receptor is rigid");
+    assert_eq!(
+        s.set_torsions(1, &[0.1]),
+        Err(TorsionError::Count { got: 1, bonds: n })
+    );
+    assert!(matches!(
+        s.set_torsions(1, &vec![f64::NAN; n]),
+        Err(TorsionError::NotFinite(_))
+    ));
+    assert_eq!(s.set_torsions(0, &[]), Err(TorsionError::NotFlexible(0)));
+    let file = s.bodies()[1].molecule.local.clone();
+    let angles: Vec<f64> = (0..n).map(|k| 0.3 * (k as f64 + 1.0)).collect();
+    s.set_torsions(1, &angles).unwrap();
+    assert_eq!(s.torsion_angles(1), angles);
+    assert_ne!(s.bodies()[1].molecule.local, file);
+    assert_eq!(s.history().undo_len(), 0, "not an undoable move");
+    s.step(&FrameInput::with_commands(&[Command::ResetMolecule]), 0.0);
+    assert_eq!(s.bodies()[1].molecule.local, file);
+    s.step(&FrameInput::with_commands(&[Command::Undo]), 0.0);
+    assert_eq!(s.torsion_angles(1), angles);
 }

@@ -164,14 +164,15 @@ pub fn inner_fraction(
         let b = -2.0 * qv.dot(perp);
         let c = -2.0 * qv.dot(u.cross(perp)) * s;
         let d2 = a + b;
-        let target = if d2 <= p.contact * p.contact {
-            // Overlapping already: it may not get closer.
-            d2
+        let a_minus_t = if d2 <= p.contact * p.contact {
+            // Overlapping already: it may not get closer than it is; its
+            // start is exactly on the target (−b + b is 0).
+            -b
         } else {
             let t = p.contact + 0.5 * tolerance;
-            t * t
+            a - t * t
         };
-        if let Some(phi) = first_block(a - target, b, c, best.0)
+        if let Some(phi) = first_block(a_minus_t, b, c, best.0)
             && (phi < best.0 || best.1.is_none())
         {
             best = (phi, Some(k));

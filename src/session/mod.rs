@@ -567,14 +567,16 @@ impl Session {
 
     /// With collision on, builds what the next frames' response needs now
     /// (the selected molecule's environment, and for `soft` its loosened
-    /// index) and waits for the collider's clearance map, so that no frame
-    /// of a run pays for them: for steering runs and benchmarks.
+    /// index) and waits for their colliders' clearance maps, so that no
+    /// frame of a run pays for them: for steering runs and benchmarks.
     pub fn prepare_response(&mut self) {
         if !self.settings.collision {
             return;
         }
-        if self.settings.response == crate::collide::Response::Soft {
-            let _ = self.soft_index();
+        if self.settings.response == crate::collide::Response::Soft
+            && let Some(soft) = self.soft_index()
+        {
+            soft.collider.wait_for_clearance();
         }
         self.wait_for_collider();
     }

@@ -319,12 +319,6 @@ pub fn steer(
     session.env = None;
     session.history = super::History::default();
     session.prepare_response();
-    if opts.response == Response::Soft
-        && let Some(soft) = session.soft_index()
-    {
-        // The loosened collider's clearance map too, not only the default one's.
-        soft.collider.wait_for_clearance();
-    }
     let now_rmsd = |s: &Session| {
         let b = &s.bodies()[1];
         rmsd_of(&heavy_atoms(&b.molecule, &b.pose), &file_atoms)

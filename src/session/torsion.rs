@@ -20,7 +20,9 @@
 //! collision-free part of the turn taken (`soft` presses into the receptor
 //! as its loosened rule lets it, never into the drug itself; `pass` checks
 //! nothing). The end is checked once more with the static rule, and the
-//! turn halved, up to a few times, if rounding disagrees.
+//! turn halved, up to a few times, if rounding disagrees. With `soft`, the
+//! frame's resistance follows the pairs the turn leaves pressed in, as for
+//! a rigid push.
 //!
 //! After a change of conformation the collider's copy of the drug, the live
 //! score and the contacts follow; [`Reshaped`] tells the renderer which
@@ -554,6 +556,22 @@ impl Session {
                 out.moved = true;
                 out.changed = true;
                 self.refresh_contacts(out);
+                if self.settings.response == Response::Soft {
+                    // The pairs pressed into the band resist as they do a
+                    // rigid push (what a controller's rumble follows).
+                    let pressed: Vec<crate::collide::Pair> = self
+                        .contacts
+                        .iter()
+                        .map(|c| crate::collide::Pair {
+                            receptor: c.other.1 as u32,
+                            drug: c.moving.1 as u32,
+                            distance: c.distance,
+                            contact: c.contact,
+                        })
+                        .collect();
+                    let r = crate::collide::soft::resistance(&pressed, self.settings.soft_limit);
+                    out.resistance = out.resistance.max(r);
+                }
                 return radians * t;
             }
             // Rounding put the end in contact after all: take back half.
@@ -696,6 +714,11 @@ impl Session {
         };
         let receptor = self.typed_receptor(r);
         let collider = self.own_collider(r);
+        // Settle sums over the collider's neighbours in the order its
+        // search visits them, which differs once the padded rows (built in
+        // the background) are there: waiting for them makes the run the
+        // same every time, as replay needs.
+        collider.wait_for_clearance();
         let from = self.bodies[b].pose;
         let start = Conformation {
             pose: self.bodies[r].pose.inverse().compose(&from),
@@ -723,6 +746,13 @@ impl Session {
                 "settle found no pose free of overlaps from here ({} pairs overlap): nothing changed",
                 s.end_collisions.len()
             ));
+            return;
+        }
+        if s.steps == 0 {
+            out.messages.push(
+                "settle: no step lowers the score from here without a collision: nothing changed"
+                    .into(),
+            );
             return;
         }
         let to = self.bodies[r].pose.compose(&s.conf.pose);
