@@ -22,6 +22,7 @@
 //! are the result, absolute times belong to the machine.
 
 mod accuracy;
+mod dockability;
 mod frames;
 mod layers;
 mod load;
@@ -47,6 +48,7 @@ const SECTIONS: &[&Section] = &[
     &frames::SECTION,
     &load::SECTION,
     &score::SECTION,
+    &dockability::SECTION,
 ];
 
 /// The report's first line; an existing file that does not start with it
@@ -379,6 +381,7 @@ fn check_smoke(dir: &Path, out: &Path) -> Result<(), String> {
             "| 1rx1.pdb | 1317 |",
             "## bump against parry3d",
             "## The thesis's Table 1",
+            "| 6xg5/TOP | flexible | soft | 1 |",
         ]);
     }
     for w in want {

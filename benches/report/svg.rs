@@ -225,3 +225,88 @@ pub fn self_check() -> Result<(), String> {
         Err(format!("a test figure came out wrong:\n{svg}"))
     }
 }
+
+/// Grouped vertical bars on a linear axis from 0 to `y_max`: one group per
+/// entry of `groups`, one bar per series (its values in the groups'
+/// order), with a legend.
+pub fn bars(
+    title: &str,
+    y_label: &str,
+    groups: &[&str],
+    series: &[(String, Vec<f64>)],
+    y_max: f64,
+) -> String {
+    let n = series.len().max(1) as f64;
+    let group_w = 20.0 + 14.0 * n;
+    let plot_w = group_w * groups.len().max(1) as f64;
+    let width = LEFT + plot_w + 120.0;
+    let height = TOP + PLOT_H + 60.0;
+    let py = |y: f64| TOP + PLOT_H - PLOT_H * (y / y_max).clamp(0.0, 1.0);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="12">"#
+    );
+    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        s,
+        r#"<text x="{LEFT}" y="20" font-size="14" font-weight="bold">{}</text>"#,
+        escape(title)
+    );
+    for k in 0..=4 {
+        let v = y_max * f64::from(k) / 4.0;
+        let y = py(v);
+        let _ = writeln!(
+            s,
+            r##"<line x1="{LEFT}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{v:.0}</text>"##,
+            LEFT + plot_w,
+            LEFT - 5.0,
+            y + 4.0
+        );
+    }
+    for (g, name) in groups.iter().enumerate() {
+        let gx = LEFT + group_w * g as f64 + 10.0;
+        for (k, (_, values)) in series.iter().enumerate() {
+            let v = values.get(g).copied().unwrap_or(0.0);
+            let c = COLOURS[k % COLOURS.len()];
+            let y = py(v);
+            let _ = writeln!(
+                s,
+                r#"<rect x="{:.1}" y="{y:.1}" width="12" height="{:.1}" fill="{c}"/>"#,
+                gx + 14.0 * k as f64,
+                TOP + PLOT_H - y
+            );
+        }
+        let _ = writeln!(
+            s,
+            r#"<text x="{:.1}" y="{}" text-anchor="middle">{}</text>"#,
+            gx + 7.0 * n,
+            TOP + PLOT_H + 16.0,
+            escape(name)
+        );
+    }
+    let _ = writeln!(
+        s,
+        r#"<rect x="{LEFT}" y="{TOP}" width="{plot_w:.1}" height="{PLOT_H}" fill="none" stroke="black"/>"#
+    );
+    let _ = writeln!(
+        s,
+        r#"<text transform="translate(18,{}) rotate(-90)" text-anchor="middle">{}</text>"#,
+        TOP + PLOT_H / 2.0,
+        escape(y_label)
+    );
+    for (k, (name, _)) in series.iter().enumerate() {
+        let c = COLOURS[k % COLOURS.len()];
+        let (lx, ly) = (LEFT + plot_w + 10.0, TOP + 8.0 + 16.0 * k as f64);
+        let _ = writeln!(
+            s,
+            r#"<rect x="{lx}" y="{}" width="10" height="10" fill="{c}"/><text x="{}" y="{}">{}</text>"#,
+            ly - 5.0,
+            lx + 14.0,
+            ly + 4.0,
+            escape(name)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}

@@ -154,7 +154,18 @@ impl App {
     /// commands join `input`. `None` when there is no window.
     fn hud_pass(&mut self, input: &mut FrameInput) -> Option<HudPass> {
         let g = self.gfx.as_mut()?;
-        let raw = g.egui_state.take_egui_input(&g.window);
+        let mut raw = g.egui_state.take_egui_input(&g.window);
+        // Tab selects the drug's next rotatable bond: egui never sees it,
+        // so it neither moves the HUD's focus nor takes the keys after it.
+        raw.events.retain(|e| {
+            !matches!(
+                e,
+                egui::Event::Key {
+                    key: egui::Key::Tab,
+                    ..
+                }
+            )
+        });
         let session = &self.session;
         let hud = &mut self.hud;
         let open = &mut self.open_dialog;
@@ -222,6 +233,14 @@ impl App {
     /// beep, flash and rumble.
     fn step(&mut self, input: &FrameInput, dt: f64, now: Instant) -> FrameOutcome {
         let out = self.session.step(input, dt);
+        if !out.reshaped.is_empty() {
+            // A bond turned (or undo, reset, settle): the drug's atoms moved
+            // within it, so the scene's atoms go to the GPU again.
+            let title = self.title();
+            if let Some(g) = self.gfx.as_mut() {
+                g.reload(&self.session, &title);
+            }
+        }
         if let Some(s) = &out.score {
             self.hud.score.push(s.clone());
         }

@@ -268,6 +268,13 @@ fn top_bar(ui: &mut egui::Ui, session: &Session, hud: &mut HudState, cmds: &mut 
     if ui.button("Reset").clicked() {
         cmds.push(Command::ResetMolecule);
     }
+    if ui
+        .button("Settle")
+        .on_hover_text("minimise the drug's Vina score from here (Shift+G)")
+        .clicked()
+    {
+        cmds.push(Command::Settle);
+    }
     if ui.button("Open…").clicked() {
         hud.open_requested = true;
     }

@@ -152,6 +152,13 @@ use KeyCode as K;
 
 const N: Mods = Mods::NONE;
 
+/// One press of `;` or `'`: the selected bond's turn, degrees.
+const TORSION_STEP: f64 = 5.0;
+/// With Shift.
+const TORSION_COARSE: f64 = 30.0;
+/// With Alt.
+const TORSION_FINE: f64 = 1.0;
+
 /// Every binding, in the order the help lists them.
 pub const TABLE: &[Entry] = &[
     row(
@@ -274,6 +281,63 @@ pub const TABLE: &[Entry] = &[
         &[(K::KeyG, N)],
         S(Command::CentreOnDrug),
         "centre the view on the drug",
+    ),
+    row(
+        &[(K::Tab, N)],
+        S(Command::NextTorsion),
+        "select the drug's next rotatable bond",
+    ),
+    row(
+        &[(K::Tab, Mods::SHIFT)],
+        S(Command::PreviousTorsion),
+        "select the drug's previous rotatable bond",
+    ),
+    row(
+        &[(K::Semicolon, N)],
+        S(Command::TurnTorsion {
+            degrees: -TORSION_STEP,
+        }),
+        "turn the selected rotatable bond back (−5°; through collisions)",
+    ),
+    row(
+        &[(K::Quote, N)],
+        S(Command::TurnTorsion {
+            degrees: TORSION_STEP,
+        }),
+        "turn the selected rotatable bond on (+5°; through collisions)",
+    ),
+    row(
+        &[(K::Semicolon, Mods::SHIFT)],
+        S(Command::TurnTorsion {
+            degrees: -TORSION_COARSE,
+        }),
+        "turn the selected rotatable bond back, coarse (−30°)",
+    ),
+    row(
+        &[(K::Quote, Mods::SHIFT)],
+        S(Command::TurnTorsion {
+            degrees: TORSION_COARSE,
+        }),
+        "turn the selected rotatable bond on, coarse (+30°)",
+    ),
+    row(
+        &[(K::Semicolon, Mods::ALT)],
+        S(Command::TurnTorsion {
+            degrees: -TORSION_FINE,
+        }),
+        "turn the selected rotatable bond back, fine (−1°)",
+    ),
+    row(
+        &[(K::Quote, Mods::ALT)],
+        S(Command::TurnTorsion {
+            degrees: TORSION_FINE,
+        }),
+        "turn the selected rotatable bond on, fine (+1°)",
+    ),
+    row(
+        &[(K::KeyG, Mods::SHIFT)],
+        S(Command::Settle),
+        "settle the drug: a local minimisation of its Vina score over pose and torsions that ends free of overlaps (undoable)",
     ),
     row(
         &[(K::KeyV, Mods::SHIFT)],
@@ -513,6 +577,8 @@ pub fn key_name(key: KeyCode) -> String {
         K::BracketRight => "]",
         K::Minus => "-",
         K::Equal => "=",
+        K::Semicolon => ";",
+        K::Quote => "'",
         other => {
             let d = format!("{other:?}");
             return d

@@ -1,10 +1,12 @@
 //! `bump steer`: the fixed steering controller ([`bump::session::steer`]):
-//! from a clear start along a direction, towards the file pose, through a
-//! collision response; reports whether the drug got there.
+//! from a clear start along a direction, towards the file pose (and, with
+//! `--flexible`, the file torsions), through a collision response; reports
+//! whether the drug got there, and with `--settle` what the session's
+//! settle made of the end.
 
 use bump::collide::Response;
 use bump::session::Settings;
-use bump::session::steer::{MAX_FRAMES, REACHED_RMSD, steer};
+use bump::session::steer::{MAX_FRAMES, REACHED_RMSD, SteerOptions, steer};
 use clap::Args;
 use glam::DVec3;
 
@@ -24,6 +26,16 @@ pub struct SteerArgs {
     /// How far beyond the contact rule `soft` lets a pair press, Å.
     #[arg(long, default_value_t = bump::collide::soft::DEFAULT_LIMIT)]
     soft_limit: f64,
+    /// Turn the drug's rotatable bonds too: each starts 60° off its file
+    /// angle (either way, seeded) and is steered back 5° a frame at most.
+    #[arg(long)]
+    flexible: bool,
+    /// Settle after the run (the session's settle, as key Shift+G).
+    #[arg(long)]
+    settle: bool,
+    /// Seed of the start's torsion turns (with --flexible).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
     /// Print JSON.
     #[arg(long)]
     json: bool,
@@ -55,7 +67,12 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
         loaded.scene.drug,
         settings,
         args.direction,
-        args.response,
+        &SteerOptions {
+            response: args.response,
+            flexible: args.flexible,
+            settle: args.settle,
+            seed: args.seed,
+        },
     )?;
     if args.json {
         outln!("{}", serde_json::to_string_pretty(&r)?);
@@ -63,9 +80,14 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
     }
     let [x, y, z] = r.direction;
     outln!(
-        "start {:.1} Å along ({x:.3}, {y:.3}, {z:.3}), response {}",
+        "start {:.1} Å along ({x:.3}, {y:.3}, {z:.3}), response {}{}",
         r.start_distance,
-        r.response.name()
+        r.response.name(),
+        if r.flexible {
+            format!(", flexible ({} rotatable bonds)", r.torsions)
+        } else {
+            String::new()
+        }
     );
     outln!(
         "{} (heavy-atom RMSD ≤ {REACHED_RMSD} Å{}); best {:.2} Å, final {:.2} Å after {} of at most {MAX_FRAMES} frames",
@@ -83,5 +105,24 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
         r.step_us_median,
         r.step_us_p99
     );
+    if let Some(s) = &r.settled {
+        outln!(
+            "settle: {}; RMSD {:.2} Å{}; {}",
+            if s.applied {
+                "applied"
+            } else {
+                "found no pose free of overlaps, nothing changed"
+            },
+            s.rmsd,
+            s.score
+                .map(|e| format!(", Vina inter {e:.2} kcal/mol"))
+                .unwrap_or_default(),
+            if s.collides {
+                "collides"
+            } else {
+                "collision-free"
+            }
+        );
+    }
     Ok(())
 }

@@ -5,22 +5,32 @@
 //! The start: the first pose along `direction` (steps of 0.5 Å from 8 Å
 //! off the file pose's centre) where the drug, turned 30° about a fixed
 //! axis, collides with nothing and every drug atom lies at least 3 Å from
-//! every receptor atom. Each frame then proposes at most 0.3 Å and 3°
-//! towards the file pose (a [`Command::MoveBy`] through the session, the
-//! same code as the window), for at most 3000 frames. The run is reached
-//! when the heavy-atom RMSD to the file pose is at most 2 Å at some frame.
-//! A frame that moves nothing ends the run early: the session is a
-//! function of its state, so the next frame would propose the same and be
-//! refused the same.
+//! every receptor atom. With `flexible`, each rotatable bond is first
+//! turned 60° from its file angle, either way as a seeded draw says, and
+//! the start is searched with that shape. Each frame then proposes at most
+//! 0.3 Å and 3° towards the file pose (a [`Command::MoveBy`] through the
+//! session, the same code as the window), and, with `flexible`, at most 5°
+//! per bond towards its file angle (a [`Command::TurnTorsion`] of each
+//! bond still turned), for at most 3000 frames. The run is reached when
+//! the heavy-atom RMSD to the file pose (and file torsions) is at most
+//! 2 Å at some frame. A frame that moves nothing ends the run early: the
+//! session is a function of its state, so the next frame would propose
+//! the same and be refused the same. With `settle`, the session's settle
+//! ([`Command::Settle`]) runs from the final pose.
+//!
+//! Everything a soft frame needs (the environment, the loosened index,
+//! the clearance map) is built before the first frame
+//! ([`Session::prepare_response`]), so the step times are the steps'.
 
 use glam::DVec3;
 use serde::Serialize;
 use thiserror::Error;
 
-use super::{Command, Contact, FrameInput, Session, SessionError, Settings};
+use super::{Command, Contact, FrameInput, Session, SessionError, Settings, TorsionError};
 use crate::collide::{ContactRule, Response};
 use crate::model::Molecule;
 use crate::motion::Pose;
+use crate::rng::Rng;
 
 /// Farthest start searched along the direction, Å.
 const FARTHEST_START: f64 = 200.0;
@@ -34,10 +44,15 @@ const START_CLEARANCE: f64 = 3.0;
 const START_TURN: f64 = 30.0;
 /// The start's turn axis (fixed, normalised when used).
 const START_AXIS: DVec3 = DVec3::new(1.0, 2.0, 3.0);
+/// The start's turn of each rotatable bond with `flexible`, degrees
+/// (either way, seeded).
+pub const START_TORSION: f64 = 60.0;
 /// Largest proposed translation per frame, Å.
 pub const MAX_STEP: f64 = 0.3;
 /// Largest proposed turn per frame, degrees.
 pub const MAX_TURN: f64 = 3.0;
+/// Largest proposed turn of one rotatable bond per frame, degrees.
+pub const MAX_TORSION_TURN: f64 = 5.0;
 /// Frames at most.
 pub const MAX_FRAMES: usize = 3000;
 /// Heavy-atom RMSD to the file pose that counts as reached, Å.
@@ -55,6 +70,49 @@ pub enum SteerError {
     /// The session could not start.
     #[error(transparent)]
     Session(#[from] SessionError),
+    /// The drug's torsions could not be set.
+    #[error(transparent)]
+    Torsion(#[from] TorsionError),
+}
+
+/// How the controller runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteerOptions {
+    /// The collision response.
+    pub response: Response,
+    /// Turn the drug's rotatable bonds too.
+    pub flexible: bool,
+    /// Settle after the run.
+    pub settle: bool,
+    /// Seed of the start's torsion turns.
+    pub seed: u64,
+}
+
+impl Default for SteerOptions {
+    fn default() -> Self {
+        Self {
+            response: Response::Soft,
+            flexible: false,
+            settle: false,
+            seed: 1,
+        }
+    }
+}
+
+/// What the session's settle made of the final pose.
+#[derive(Debug, Clone, Serialize)]
+pub struct Settled {
+    /// Whether settle changed the pose (it does only when it ends free of
+    /// overlaps).
+    pub applied: bool,
+    /// Heavy-atom RMSD to the file pose after settle, Å.
+    pub rmsd: f64,
+    /// Vina's intermolecular energy after settle, kcal/mol (None when
+    /// settle changed nothing).
+    pub score: Option<f64>,
+    /// Whether the drug collides with the receptor under the contact rule
+    /// after settle.
+    pub collides: bool,
 }
 
 /// What one steering run did.
@@ -64,6 +122,10 @@ pub struct SteerReport {
     pub direction: [f64; 3],
     /// The response.
     pub response: Response,
+    /// Whether the rotatable bonds turned.
+    pub flexible: bool,
+    /// Rotatable bonds turned (0 for a rigid run).
+    pub torsions: usize,
     /// Distance of the start from the file pose's centre, Å.
     pub start_distance: f64,
     /// Heavy-atom RMSD ≤ 2 Å at some frame.
@@ -78,28 +140,75 @@ pub struct SteerReport {
     pub frames: usize,
     /// Deepest overlap beyond the default contact rule over the run, Å.
     pub deepest_overlap: f64,
-    /// Median time of one collision response step, µs.
+    /// Median time of one collision response step (a rigid move or a
+    /// bond's turn), µs.
     pub step_us_median: f64,
     /// 99th percentile of the step times, µs.
     pub step_us_p99: f64,
-    /// Per frame, the collision response's time, µs (not serialised).
+    /// After `settle`: what it made of the final pose.
+    pub settled: Option<Settled>,
+    /// Per step, the collision response's time, µs (not serialised).
     #[serde(skip)]
     pub step_us: Vec<f64>,
 }
 
+/// World positions of `drug`'s heavy atoms at `pose`.
+fn heavy_atoms(drug: &Molecule, pose: &Pose) -> Vec<DVec3> {
+    drug.atoms
+        .iter()
+        .zip(&drug.local)
+        .filter(|(atom, _)| !atom.element.eq_ignore_ascii_case("H"))
+        .map(|(_, x)| pose.transform_point(x.as_dvec3()))
+        .collect()
+}
+
+/// RMSD between two lists of positions, Å.
+fn rmsd_of(a: &[DVec3], b: &[DVec3]) -> f64 {
+    let n = a.len().min(b.len());
+    if n == 0 {
+        return 0.0;
+    }
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| (*p - *q).length_squared())
+        .sum();
+    (sum / n as f64).sqrt()
+}
+
 /// Heavy-atom RMSD between `drug` at `a` and at `b`, Å.
 pub fn rmsd(drug: &Molecule, a: &Pose, b: &Pose) -> f64 {
-    let mut sum = 0.0;
-    let mut n = 0usize;
-    for (atom, x) in drug.atoms.iter().zip(&drug.local) {
-        if atom.element.eq_ignore_ascii_case("H") {
-            continue;
-        }
-        let x = x.as_dvec3();
-        sum += (a.transform_point(x) - b.transform_point(x)).length_squared();
-        n += 1;
-    }
-    if n == 0 { 0.0 } else { (sum / n as f64).sqrt() }
+    rmsd_of(&heavy_atoms(drug, a), &heavy_atoms(drug, b))
+}
+
+/// Whether `drug` at `pose` collides with `receptor` at `receptor_pose`
+/// under `rule`, and every drug atom lies at least `clearance` Å from
+/// every receptor atom (brute force: the judge, not the collider).
+fn clear(
+    receptor: &[(f32, bool, DVec3)],
+    drug: &Molecule,
+    pose: &Pose,
+    rule: &ContactRule,
+    clearance: f64,
+) -> bool {
+    drug.atoms.iter().zip(&drug.local).all(|(b, x)| {
+        let x = pose.transform_point(x.as_dvec3());
+        receptor.iter().all(|&(radius, polar, q)| {
+            let d2 = (x - q).length_squared();
+            d2 >= clearance * clearance
+                && !rule.collides(radius, polar, b.radius, b.polar, d2 as f32)
+        })
+    })
+}
+
+/// The receptor's atoms in the world: (radius, polar, position).
+fn world_atoms(receptor: &Molecule, pose: &Pose) -> Vec<(f32, bool, DVec3)> {
+    receptor
+        .atoms
+        .iter()
+        .zip(&receptor.local)
+        .map(|(a, x)| (a.radius, a.polar, pose.transform_point(x.as_dvec3())))
+        .collect()
 }
 
 /// The start pose along `direction` (unit) from the drug's file pose
@@ -113,29 +222,64 @@ pub fn start_pose(
     rule: &ContactRule,
 ) -> Option<(Pose, f64)> {
     let turned = crate::collide::sweep::turn(START_AXIS, START_TURN) * file.rotation;
-    let rec: Vec<DVec3> = receptor
-        .local
-        .iter()
-        .map(|x| receptor_pose.transform_point(x.as_dvec3()))
-        .collect();
+    let rec = world_atoms(receptor, receptor_pose);
     let steps = ((FARTHEST_START - NEAREST_START) / START_STEP) as usize;
     (0..=steps).find_map(|k| {
         let s = NEAREST_START + START_STEP * k as f64;
         let pose = Pose::new(turned, file.translation + direction * s);
-        let clear = drug.atoms.iter().zip(&drug.local).all(|(b, x)| {
-            let x = pose.transform_point(x.as_dvec3());
-            receptor.atoms.iter().zip(&rec).all(|(a, q)| {
-                let d2 = (x - *q).length_squared();
-                d2 >= START_CLEARANCE * START_CLEARANCE
-                    && !rule.collides(a.radius, a.polar, b.radius, b.polar, d2 as f32)
-            })
-        });
-        clear.then_some((pose, s))
+        clear(&rec, drug, &pose, rule, START_CLEARANCE).then_some((pose, s))
     })
 }
 
+/// The seeded start torsions of `n` rotatable bonds: each
+/// ±[`START_TORSION`]°, radians.
+pub fn start_torsions(n: usize, seed: u64) -> Vec<f64> {
+    let mut rng = Rng(seed);
+    (0..n)
+        .map(|_| {
+            let sign = if rng.next_u64() >> 63 == 0 { 1.0 } else { -1.0 };
+            sign * START_TORSION.to_radians()
+        })
+        .collect()
+}
+
+/// The frame's proposal towards the file pose and torsions: the commands
+/// (none when there is nothing left to do).
+fn proposal(session: &Session, file: &Pose, flexible: bool) -> Vec<Command> {
+    let pose = session.bodies()[1].pose;
+    let mut translate = file.translation - pose.translation;
+    if translate.length() > MAX_STEP {
+        translate = translate.normalize() * MAX_STEP;
+    }
+    let q = (file.rotation * pose.rotation.conjugate()).normalize();
+    let (axis, angle) = q.to_axis_angle();
+    let mut degrees = angle.to_degrees();
+    if degrees > 180.0 {
+        degrees -= 360.0;
+    }
+    degrees = degrees.clamp(-MAX_TURN, MAX_TURN);
+    let mut commands = Vec::new();
+    if translate != DVec3::ZERO || degrees != 0.0 {
+        commands.push(Command::MoveBy {
+            translate,
+            axis,
+            degrees,
+        });
+    }
+    if flexible {
+        for (k, &t) in session.torsion_angles(1).iter().enumerate() {
+            let turn = (-t.to_degrees()).clamp(-MAX_TORSION_TURN, MAX_TORSION_TURN);
+            if turn != 0.0 {
+                commands.push(Command::SelectTorsion(Some(k)));
+                commands.push(Command::TurnTorsion { degrees: turn });
+            }
+        }
+    }
+    commands
+}
+
 /// Runs the controller: `receptor` stays, `drug` starts along `direction`
-/// and is steered towards its file pose under `response`.
+/// and is steered towards its file pose as `opts` says.
 ///
 /// # Errors
 /// A zero direction, or no clear start.
@@ -144,65 +288,64 @@ pub fn steer(
     drug: Molecule,
     mut settings: Settings,
     direction: DVec3,
-    response: Response,
+    opts: &SteerOptions,
 ) -> Result<SteerReport, SteerError> {
     let d = direction
         .try_normalize()
         .filter(|d| d.is_finite())
         .ok_or(SteerError::Direction(direction.to_array()))?;
     settings.collision = true;
-    settings.response = response;
+    settings.response = opts.response;
     let rule = settings.rule;
     let mut session = Session::new(vec![receptor, drug], settings)?;
+    let file = session.bodies()[1].loaded;
+    let file_atoms = heavy_atoms(&session.bodies()[1].molecule, &file);
+    let torsions = if opts.flexible {
+        session.rotatable_bonds(1).len()
+    } else {
+        0
+    };
+    if torsions > 0 {
+        session.set_torsions(1, &start_torsions(torsions, opts.seed))?;
+    }
     let (rec, drg) = (&session.bodies()[0], &session.bodies()[1]);
-    let file = drg.loaded;
+    let receptor_atoms = world_atoms(&rec.molecule, &rec.pose);
     let (start, start_distance) =
         start_pose(&rec.molecule, &rec.pose, &drg.molecule, &file, d, &rule)
             .ok_or(SteerError::NoStart)?;
-    // Put the drug at the start (a jump, outside the controller's frames).
+    // Put the drug at the start (a jump, outside the controller's frames),
+    // and build what the response needs before the first frame.
     session.bodies[1].pose = start;
     session.env = None;
     session.history = super::History::default();
     session.prepare_response();
-    let drug = session.bodies()[1].molecule.clone();
+    let now_rmsd = |s: &Session| {
+        let b = &s.bodies()[1];
+        rmsd_of(&heavy_atoms(&b.molecule, &b.pose), &file_atoms)
+    };
     let mut report = SteerReport {
         direction: d.to_array(),
-        response,
+        response: opts.response,
+        flexible: opts.flexible,
+        torsions,
         start_distance,
         reached: false,
         reached_frame: None,
-        best_rmsd: rmsd(&drug, &start, &file),
+        best_rmsd: now_rmsd(&session),
         final_rmsd: 0.0,
         frames: 0,
         deepest_overlap: 0.0,
         step_us_median: 0.0,
         step_us_p99: 0.0,
+        settled: None,
         step_us: Vec::new(),
     };
     for frame in 1..=MAX_FRAMES {
-        let pose = session.bodies()[1].pose;
-        let mut translate = file.translation - pose.translation;
-        if translate.length() > MAX_STEP {
-            translate = translate.normalize() * MAX_STEP;
-        }
-        let q = (file.rotation * pose.rotation.conjugate()).normalize();
-        let (axis, angle) = q.to_axis_angle();
-        let mut degrees = angle.to_degrees();
-        if degrees > 180.0 {
-            degrees -= 360.0;
-        }
-        degrees = degrees.clamp(-MAX_TURN, MAX_TURN);
-        if translate == DVec3::ZERO && degrees == 0.0 {
+        let commands = proposal(&session, &file, opts.flexible);
+        if commands.is_empty() {
             break;
         }
-        let out = session.step(
-            &FrameInput::with_commands(&[Command::MoveBy {
-                translate,
-                axis,
-                degrees,
-            }]),
-            0.0,
-        );
+        let out = session.step(&FrameInput::with_commands(&commands), 0.0);
         report.frames = frame;
         report.step_us.extend(out.collision_calls.iter().copied());
         let deepest = out
@@ -211,8 +354,7 @@ pub fn steer(
             .map(Contact::depth)
             .fold(0.0f32, f32::max);
         report.deepest_overlap = report.deepest_overlap.max(f64::from(deepest));
-        let now = session.bodies()[1].pose;
-        let r = rmsd(&drug, &now, &file);
+        let r = now_rmsd(&session);
         report.best_rmsd = report.best_rmsd.min(r);
         if r <= REACHED_RMSD && !report.reached {
             report.reached = true;
@@ -222,7 +364,17 @@ pub fn steer(
             break;
         }
     }
-    report.final_rmsd = rmsd(&drug, &session.bodies()[1].pose, &file);
+    report.final_rmsd = now_rmsd(&session);
+    if opts.settle {
+        let out = session.step(&FrameInput::with_commands(&[Command::Settle]), 0.0);
+        let b = &session.bodies()[1];
+        report.settled = Some(Settled {
+            applied: out.settled.is_some(),
+            rmsd: now_rmsd(&session),
+            score: out.settled.as_ref().map(|p| p.inter.1),
+            collides: !clear(&receptor_atoms, &b.molecule, &b.pose, &rule, 0.0),
+        });
+    }
     let mut sorted = report.step_us.clone();
     sorted.sort_by(f64::total_cmp);
     let at = |q: f64| {
@@ -238,6 +390,25 @@ mod tests {
     use super::*;
     use crate::model::{RadiiSet, builtin};
 
+    fn opts(response: Response) -> SteerOptions {
+        SteerOptions {
+            response,
+            ..SteerOptions::default()
+        }
+    }
+
+    #[test]
+    fn start_torsions_are_sixty_degrees_either_way_and_seeded() {
+        let a = start_torsions(40, 7);
+        assert_eq!(a, start_torsions(40, 7));
+        assert_ne!(a, start_torsions(40, 8));
+        assert!(
+            a.iter()
+                .all(|t| (t.abs() - 60f64.to_radians()).abs() < 1e-15)
+        );
+        assert!(a.iter().any(|t| *t > 0.0) && a.iter().any(|t| *t < 0.0));
+    }
+
     #[test]
     fn pass_always_reaches_and_stop_never_overlaps() {
         let (rings, e) = builtin::scene(RadiiSet::Bondi);
@@ -246,7 +417,7 @@ mod tests {
             e.clone(),
             Settings::default(),
             DVec3::X,
-            Response::Pass,
+            &opts(Response::Pass),
         )
         .expect("steer");
         assert!(pass.reached && pass.final_rmsd < 1e-6, "{pass:?}");
@@ -256,13 +427,20 @@ mod tests {
                 e.clone(),
                 Settings::default(),
                 DVec3::new(0.3, -1.0, 0.2),
-                response,
+                &opts(response),
             )
             .expect("steer");
             assert_eq!(r.deepest_overlap, 0.0, "{r:?}");
             assert!(r.frames >= 1 && r.best_rmsd <= r.final_rmsd + 1e-12);
         }
-        let soft = steer(rings, e, Settings::default(), DVec3::Y, Response::Soft).expect("steer");
+        let soft = steer(
+            rings,
+            e,
+            Settings::default(),
+            DVec3::Y,
+            &opts(Response::Soft),
+        )
+        .expect("steer");
         assert!(soft.deepest_overlap <= 1.0 + 1e-4, "{soft:?}");
     }
 }

@@ -1,0 +1,365 @@
+//! Dockability: can the fixed steering controller of `bump steer`
+//! ([`bump::session::steer`]) bring each shared drug from outside into its
+//! pocket, under each collision response? 32 start directions per complex
+//! (a Fibonacci sphere), every response, rigid and flexible; success rate (heavy-atom
+//! RMSD ≤ 2 Å at some frame), median frames to get there, the deepest
+//! overlap beyond the contact rule, the steps' time; then, for soft
+//! flexible, the session's settle (RMSD after it, collision-free count).
+//!
+//! The runs are split over the machine's cores by direction (each run is
+//! its own session, seeded and deterministic), and gathered in direction
+//! order, so the table does not depend on the threads.
+//!
+//! Where no response gets there, the `pass` rows say why: under `pass`
+//! (collision off) the controller's path is the straight one, and its
+//! deepest overlap, least over the directions, is how far the drug must
+//! press into the receptor on the best straight path from outside.
+
+use std::path::Path;
+use std::time::Instant;
+
+use bump::collide::{ContactRule, Response};
+use bump::model::{self, Hydrogens, LigandSpec, LoadOptions, Molecule, RadiiSet};
+use bump::session::Settings;
+use bump::session::steer::{SteerOptions, SteerReport, steer};
+use glam::DVec3;
+
+use super::timing::{Progress, median, quantile};
+use super::{Context, Part, Section};
+
+/// (label, receptor file, drug file or ligand residue).
+const COMPLEXES: [(&str, &str, Drug); 7] = [
+    ("6xg5/TOP", "6xg5_tmp_prepared.pdb", Drug::Residue("TOP")),
+    ("3ptb/BEN", "3ptb.pdb", Drug::Residue("BEN")),
+    (
+        "1s3v/TQD",
+        "1s3v_protein.pdb",
+        Drug::File("1s3v_ligand_tqd.sdf"),
+    ),
+    ("4dfr/MTX", "4dfr.pdb", Drug::Residue("MTX")),
+    ("1u72/MTX", "1u72.pdb", Drug::Residue("MTX")),
+    ("3nzd/D2Q", "3nzd.cif", Drug::Residue("D2Q")),
+    ("1hvr/XK2", "1hvr.pdb", Drug::Residue("XK2")),
+];
+
+/// Where a complex's drug comes from.
+#[derive(Clone, Copy)]
+enum Drug {
+    /// A residue of the receptor file, split off.
+    Residue(&'static str),
+    /// Its own file, in the receptor's frame.
+    File(&'static str),
+}
+
+/// The responses, in the table's order.
+const RESPONSES: [Response; 5] = [
+    Response::Stop,
+    Response::Touch,
+    Response::Slide,
+    Response::Soft,
+    Response::Pass,
+];
+
+/// Start directions per complex (fewer under `--quick`).
+const DIRECTIONS: usize = 32;
+const QUICK_DIRECTIONS: usize = 8;
+
+/// The section.
+pub const SECTION: Section = Section {
+    name: "dockability",
+    steps,
+    run,
+};
+
+fn steps(ctx: &Context) -> usize {
+    match (&ctx.data, ctx.queries < QUICK_DIRECTIONS) {
+        (None, _) => 0,
+        (Some(_), true) => 1,
+        (Some(_), false) => COMPLEXES.len(),
+    }
+}
+
+/// Loads a complex as the command line does (Bondi radii, hydrogens
+/// dropped): (receptor, drug).
+fn load(dir: &Path, receptor: &str, drug: Drug) -> Result<(Molecule, Molecule), String> {
+    let opts = LoadOptions {
+        radii: RadiiSet::Bondi,
+        hydrogens: Hydrogens::Drop,
+        sdf_record: None,
+        decompressed_limit: None,
+    };
+    let loaded = model::load(&dir.join(receptor), &opts).map_err(|e| e.to_string())?;
+    match drug {
+        Drug::Residue(name) => {
+            let spec = LigandSpec::parse(name)?;
+            model::split_complex_owned(loaded.structure, &spec).map_err(|e| e.to_string())
+        }
+        Drug::File(file) => {
+            let r = model::receptor_only_owned(loaded.structure).map_err(|e| e.to_string())?;
+            let d = model::load(&dir.join(file), &opts).map_err(|e| e.to_string())?;
+            let d = model::receptor_only(&d.structure).map_err(|e| e.to_string())?;
+            Ok((r, d))
+        }
+    }
+}
+
+/// One run's outcome (None: no clear start along the direction).
+type Run = Option<SteerReport>;
+
+/// Every direction under `response`, over the machine's cores, in
+/// direction order.
+fn runs(receptor: &Molecule, drug: &Molecule, dirs: &[DVec3], opts: SteerOptions) -> Vec<Run> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, dirs.len().max(1));
+    let mut out: Vec<Run> = vec![None; dirs.len()];
+    std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                s.spawn(move || {
+                    (t..dirs.len())
+                        .step_by(threads)
+                        .map(|k| {
+                            let settings = Settings {
+                                rule: ContactRule::default(),
+                                ..Settings::default()
+                            };
+                            // Each direction its own seed of the start's torsions.
+                            let opts = SteerOptions {
+                                seed: k as u64 + 1,
+                                ..opts
+                            };
+                            let r = steer(receptor.clone(), drug.clone(), settings, dirs[k], &opts)
+                                .ok();
+                            (k, r)
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        for h in handles {
+            if let Ok(rows) = h.join() {
+                for (k, r) in rows {
+                    out[k] = r;
+                }
+            }
+        }
+    });
+    out
+}
+
+/// One row of the table: a complex under one response, rigid or flexible.
+struct Row {
+    complex: &'static str,
+    response: Response,
+    flexible: bool,
+    starts: usize,
+    reached: usize,
+    median_frames: Option<f64>,
+    deepest: f64,
+    least_deepest: f64,
+    step_median: f64,
+    step_p99: f64,
+    /// Runs settled, median settled RMSD, collision-free after settle.
+    settled: Option<(usize, f64, usize)>,
+}
+
+fn summarise(complex: &'static str, opts: SteerOptions, runs: &[Run]) -> Row {
+    let done: Vec<&SteerReport> = runs.iter().flatten().collect();
+    let frames: Vec<f64> = done
+        .iter()
+        .filter_map(|r| r.reached_frame.map(|f| f as f64))
+        .collect();
+    let steps: Vec<f64> = done
+        .iter()
+        .flat_map(|r| r.step_us.iter().copied())
+        .collect();
+    let settled: Vec<_> = done.iter().filter_map(|r| r.settled.as_ref()).collect();
+    let settled_rmsd: Vec<f64> = settled.iter().map(|s| s.rmsd).collect();
+    Row {
+        complex,
+        response: opts.response,
+        flexible: opts.flexible,
+        settled: opts.settle.then(|| {
+            (
+                settled.len(),
+                median(&settled_rmsd),
+                settled.iter().filter(|s| !s.collides).count(),
+            )
+        }),
+        starts: done.len(),
+        reached: done.iter().filter(|r| r.reached).count(),
+        median_frames: (!frames.is_empty()).then(|| median(&frames)),
+        deepest: done.iter().map(|r| r.deepest_overlap).fold(0.0, f64::max),
+        least_deepest: done
+            .iter()
+            .map(|r| r.deepest_overlap)
+            .fold(f64::INFINITY, f64::min),
+        step_median: median(&steps),
+        step_p99: quantile(&steps, 0.99),
+    }
+}
+
+fn run(ctx: &Context, progress: &mut Progress) -> Part {
+    let mut md = String::from("## Dockability: steering the drug into its pocket\n\n");
+    let Some(dir) = ctx.data.as_ref() else {
+        md.push_str("Skipped: `../shared/pdb` not found.\n");
+        return Part::text(md);
+    };
+    // A smoke run (fewer queries than the quick directions) measures the
+    // first complex only, from one direction.
+    let smoke = ctx.queries < QUICK_DIRECTIONS;
+    let n = match (ctx.quick, smoke) {
+        (_, true) => 1,
+        (true, false) => QUICK_DIRECTIONS,
+        (false, false) => DIRECTIONS,
+    };
+    let dirs = bump::rng::sphere_directions(n);
+    let t0 = Instant::now();
+    let mut rows = Vec::new();
+    let mut skipped = Vec::new();
+    for (label, receptor, drug) in
+        COMPLEXES
+            .into_iter()
+            .take(if smoke { 1 } else { COMPLEXES.len() })
+    {
+        progress.step(&format!("dockability {label}"));
+        let (receptor, drug) = match load(dir, receptor, drug) {
+            Ok(m) => m,
+            Err(e) => {
+                skipped.push(format!("{label}: {e}"));
+                continue;
+            }
+        };
+        for flexible in [false, true] {
+            for response in RESPONSES {
+                // The soft flexible runs settle at the end.
+                let opts = SteerOptions {
+                    response,
+                    flexible,
+                    settle: flexible && response == Response::Soft,
+                    seed: 1,
+                };
+                let r = runs(&receptor, &drug, &dirs, opts);
+                rows.push(summarise(label, opts, &r));
+            }
+        }
+    }
+    let seconds = t0.elapsed().as_secs_f64();
+    md.push_str(&format!(
+        "The controller of `bump steer` (issue 44): from the first pose along a direction at \
+         least 8 Å from the file pose's centre where the drug, turned 30°, is clear of the \
+         receptor by 3 Å (flexible: each rotatable bond first turned 60° either way, seeded by \
+         the direction's number), each frame proposes at most 0.3 Å and 3° towards the file \
+         pose (flexible: and 5° per bond towards its file angle) through the response, for at \
+         most 3000 frames; *reached* is a heavy-atom RMSD ≤ 2 Å to the file pose at some \
+         frame. {n} Fibonacci directions per complex, Bondi radii, hydrogens dropped, the \
+         default contact rule (overlap 0.6 Å, H-bond allowance 0.4 Å), soft limit 1 Å. \
+         *Frames* is the median frame at which the runs that got there got there; *deepest* \
+         the deepest overlap beyond the contact rule over every run; *least deepest* the least \
+         of the runs' deepest overlaps (under `pass`, collision off, how far the best straight \
+         path from outside presses into the receptor: more than the soft limit means no \
+         response that keeps to it can follow a straight path in). Step times are each \
+         collision response's (a rigid move or one bond's turn), over every run. The soft \
+         flexible runs then settle (the session's settle, exact Vina): the median heavy-atom \
+         RMSD after settle and how many end free of overlaps. {} runs in {seconds:.0} s.\n\n\
+         | complex | drug | response | starts | reached | rate | frames (median) | deepest Å | least deepest Å | step µs (median) | step µs (p99) | settled RMSD Å (median) | settled collision-free |\n\
+         | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+        rows.iter().map(|r| r.starts).sum::<usize>()
+    ));
+    for r in &rows {
+        let (settled_rmsd, free) = match r.settled {
+            Some((k, rmsd, free)) if k > 0 => (format!("{rmsd:.2}"), format!("{free} of {k}")),
+            _ => ("–".to_string(), "–".to_string()),
+        };
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {:.0} % | {} | {:.2} | {:.2} | {:.1} | {:.1} | {settled_rmsd} | {free} |\n",
+            r.complex,
+            if r.flexible { "flexible" } else { "rigid" },
+            r.response.name(),
+            r.starts,
+            r.reached,
+            rate(r),
+            r.median_frames
+                .map_or_else(|| "–".to_string(), |f| format!("{f:.0}")),
+            r.deepest,
+            if r.least_deepest.is_finite() {
+                r.least_deepest
+            } else {
+                0.0
+            },
+            r.step_median,
+            r.step_p99
+        ));
+    }
+    for s in &skipped {
+        md.push_str(&format!("\nSkipped {s}\n"));
+    }
+    let headline = rows
+        .iter()
+        .filter(|r| r.response == Response::Soft && r.flexible)
+        .map(|r| {
+            format!(
+                "Dockability, soft flexible: {} reached from {} of {} starts",
+                r.complex, r.reached, r.starts
+            )
+        })
+        .collect();
+    Part {
+        markdown: md,
+        figures: vec![("dockability.svg".into(), figure(&rows))],
+        headline,
+    }
+}
+
+fn rate(r: &Row) -> f64 {
+    if r.starts == 0 {
+        0.0
+    } else {
+        100.0 * r.reached as f64 / r.starts as f64
+    }
+}
+
+/// Grouped bars: success rate per complex, one bar per response.
+fn figure(rows: &[Row]) -> String {
+    let complexes: Vec<&str> = {
+        let mut v: Vec<&str> = Vec::new();
+        for r in rows {
+            if !v.contains(&r.complex) {
+                v.push(r.complex);
+            }
+        }
+        v
+    };
+    let bars: Vec<(String, Vec<f64>)> = [false, true]
+        .into_iter()
+        .flat_map(|flexible| RESPONSES.iter().map(move |&resp| (flexible, resp)))
+        .filter(|&(flexible, resp)| !flexible || matches!(resp, Response::Slide | Response::Soft))
+        .map(|(flexible, resp)| {
+            (
+                format!(
+                    "{}{}",
+                    resp.name(),
+                    if flexible { " (flexible)" } else { "" }
+                ),
+                complexes
+                    .iter()
+                    .map(|c| {
+                        rows.iter()
+                            .find(|r| {
+                                r.complex == *c && r.response == resp && r.flexible == flexible
+                            })
+                            .map_or(0.0, rate)
+                    })
+                    .collect(),
+            )
+        })
+        .collect();
+    super::svg::bars(
+        "Dockability: starts that reach the pocket (RMSD ≤ 2 Å)",
+        "reached, %",
+        &complexes,
+        &bars,
+        100.0,
+    )
+}
