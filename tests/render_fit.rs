@@ -164,3 +164,54 @@ fn favourable_atoms_are_blue_and_unfavourable_ones_red() {
         move_drug(&mut s, home.translation - now.translation);
     }
 }
+
+/// A turned torsion reaches the GPU as the moved atoms' positions alone:
+/// the picture after the upload equals a renderer built afresh on the
+/// turned drug, and differs from the picture before the turn.
+#[test]
+fn a_turned_torsion_uploads_only_the_moved_atoms() {
+    let Some(gpu) = gpu() else { return };
+    let Some(mut s) = dhfr_trimethoprim() else {
+        return;
+    };
+    let (w, h) = (320u32, 240u32);
+    let params = ViewParams {
+        cues: Cues::parse("none").expect("cues"),
+        ..ViewParams::default()
+    };
+    // The drug 30 Å towards the eye, so that no receptor atom hides it.
+    s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
+    s.step(
+        &FrameInput::nudged(DVec3::new(0.0, 0.0, 30.0), DVec3::ZERO),
+        0.0,
+    );
+    s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
+    let mut off = Offscreen::new(&gpu, &s, w, h).expect("target");
+    let before = off.render(&gpu, &s, &params).expect("render");
+    let out = s.step(
+        &FrameInput::with_commands(&[
+            Command::SelectTorsion(Some(0)),
+            Command::TurnTorsion { degrees: 120.0 },
+        ]),
+        0.0,
+    );
+    let moved: usize = out.reshaped.iter().map(|r| r.atoms.len()).sum();
+    assert!(moved > 0, "the turn moved no atom");
+    let bytes = off.spheres.upload_stats().position_bytes;
+    let n = off.spheres.set_positions(&gpu.queue, &s, &out.reshaped);
+    assert_eq!(n, moved);
+    assert_eq!(
+        off.spheres.upload_stats().position_bytes - bytes,
+        32 * moved as u64
+    );
+    let after = off.render(&gpu, &s, &params).expect("render");
+    let fresh = Offscreen::new(&gpu, &s, w, h)
+        .expect("target")
+        .render(&gpu, &s, &params)
+        .expect("render");
+    assert!(
+        after == fresh,
+        "the uploaded turn differs from a fresh renderer's picture"
+    );
+    assert!(after != before, "the turn changed nothing on screen");
+}

@@ -234,11 +234,12 @@ impl App {
     fn step(&mut self, input: &FrameInput, dt: f64, now: Instant) -> FrameOutcome {
         let out = self.session.step(input, dt);
         if !out.reshaped.is_empty() {
-            // A bond turned (or undo, reset, settle): the drug's atoms moved
-            // within it, so the scene's atoms go to the GPU again.
-            let title = self.title();
+            // A bond turned (or undo, reset, settle): the atoms that moved
+            // within the drug go to the GPU, nothing else.
             if let Some(g) = self.gfx.as_mut() {
-                g.reload(&self.session, &title);
+                g.spheres
+                    .set_positions(&g.gpu.queue, &self.session, &out.reshaped);
+                g.window.request_redraw();
             }
         }
         if let Some(s) = &out.score {

@@ -29,7 +29,7 @@ use super::ghost::ghost_pose;
 use super::pipelines::{Pipelines, Role, SHADOW_SIZE, SphereKey, sphere_layout};
 use super::stereo::{EyeView, off_axis};
 use super::view::{ViewParams, depth_range_for, model_views, perspective, scene_sphere};
-use crate::session::Session;
+use crate::session::{Reshaped, Session};
 
 /// Depth buffer format.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -147,6 +147,8 @@ pub struct UploadStats {
     pub color_bytes: u64,
     /// Atom radii rewritten (balls of ball-and-stick).
     pub radius_bytes: u64,
+    /// Atom positions rewritten (torsions turned).
+    pub position_bytes: u64,
 }
 
 /// Draws every atom of a session as ray-cast spheres.
@@ -470,6 +472,40 @@ impl SphereRenderer {
         }
         let (n, bytes) = self.upload_atoms(queue, dirty);
         self.stats.radius_bytes += bytes;
+        n
+    }
+
+    /// Follows atoms that moved within their molecule (a torsion turned,
+    /// was undone or reset, or the drug settled): rewrites only those
+    /// atoms' positions, in contiguous runs (their colours, radii and
+    /// highlights stay). Returns how many atoms were rewritten.
+    pub fn set_positions(
+        &mut self,
+        queue: &wgpu::Queue,
+        session: &Session,
+        moved: &[Reshaped],
+    ) -> usize {
+        let mut dirty: Vec<usize> = Vec::new();
+        for m in moved {
+            let (Some(&base), Some(body)) =
+                (self.offsets.get(m.body), session.bodies().get(m.body))
+            else {
+                continue;
+            };
+            for &atom in &m.atoms {
+                let atom = atom as usize;
+                let (Some(p), Some(a)) = (
+                    body.molecule.local.get(atom),
+                    self.atoms.get_mut(base + atom),
+                ) else {
+                    continue;
+                };
+                a.pos_radius[..3].copy_from_slice(&p.to_array());
+                dirty.push(base + atom);
+            }
+        }
+        let (n, bytes) = self.upload_atoms(queue, dirty);
+        self.stats.position_bytes += bytes;
         n
     }
 
