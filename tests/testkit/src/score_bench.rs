@@ -396,7 +396,7 @@ fn vina_rows(data: &Path, reps: usize) -> String {
 
 /// Runs `n` calls of `what` (`rigid_maps`, `maps`, `exact_gradient` or
 /// `exact`) on the DHFR setup at the crystal pose, with maps over a small
-/// box; `n` settles (`settle`, [`count_settle`]); the pair counts behind
+/// box; `n` settles (`settle`, see `count_settle`); the pair counts behind
 /// the exact evaluator's cost (`pairs`); or `n` builds of the 24 Å maps on
 /// one thread (`build`): for counting instructions under callgrind, or CPU
 /// time (`/usr/bin/time -f %U`), where the machine is too busy for wall
