@@ -215,3 +215,71 @@ fn a_turned_torsion_uploads_only_the_moved_atoms() {
     );
     assert!(after != before, "the turn changed nothing on screen");
 }
+
+/// A settle's animation (issue 44) draws the drug at poses and shapes the
+/// session is not at: `show_pose` and `set_local_positions` must draw it
+/// exactly as a renderer of a session standing there would, and putting
+/// the session's own pose and positions back must restore its picture.
+#[test]
+fn a_settles_frames_draw_the_drug_where_a_session_there_would() {
+    let Some(gpu) = gpu() else { return };
+    let (Some(mut here), Some(mut there)) = (dhfr_trimethoprim(), dhfr_trimethoprim()) else {
+        return;
+    };
+    let (w, h) = (320u32, 240u32);
+    let params = ViewParams {
+        cues: Cues::parse("none").expect("cues"),
+        ..ViewParams::default()
+    };
+    // Both drugs 30 Å towards the eye; the second 2 Å further right, turned
+    // 20° and with its first bond turned 90°.
+    for s in [&mut here, &mut there] {
+        s.step(&FrameInput::with_commands(&[Command::ToggleMode]), 0.0);
+        s.step(
+            &FrameInput::nudged(DVec3::new(0.0, 0.0, 30.0), DVec3::ZERO),
+            0.0,
+        );
+    }
+    there.step(
+        &FrameInput::with_commands(&[
+            Command::MoveBy {
+                translate: DVec3::new(2.0, 0.0, 0.0),
+                axis: DVec3::Z,
+                degrees: 20.0,
+            },
+            Command::SelectTorsion(Some(0)),
+            Command::TurnTorsion { degrees: 90.0 },
+        ]),
+        0.0,
+    );
+    let d = here.drug().expect("a drug");
+    let pose = there.bodies()[d].pose;
+    assert!(
+        pose != here.bodies()[d].pose,
+        "the second drug did not move"
+    );
+    let mut off = Offscreen::new(&gpu, &here, w, h).expect("target");
+    let before = off.render(&gpu, &here, &params).expect("render");
+    off.spheres.show_pose(Some((d, pose)));
+    let n = off
+        .spheres
+        .set_local_positions(&gpu.queue, d, &there.bodies()[d].molecule.local);
+    assert_eq!(n, there.bodies()[d].molecule.local.len());
+    let shown = off.render(&gpu, &here, &params).expect("render");
+    let fresh = Offscreen::new(&gpu, &there, w, h)
+        .expect("target")
+        .render(&gpu, &there, &params)
+        .expect("render");
+    assert!(
+        shown == fresh,
+        "the shown pose differs from a session's there"
+    );
+    assert!(shown != before, "showing another pose changed nothing");
+    // A count that does not fit writes nothing.
+    assert_eq!(off.spheres.set_local_positions(&gpu.queue, d, &[]), 0);
+    off.spheres.show_pose(None);
+    off.spheres
+        .set_local_positions(&gpu.queue, d, &here.bodies()[d].molecule.local);
+    let back = off.render(&gpu, &here, &params).expect("render");
+    assert!(back == before, "the session's own pose did not come back");
+}

@@ -5,8 +5,9 @@
 //! then, with the drug moved out of its pose, Y (the ghost of that pose) and
 //! 4 (the clipping slab; 5 thinner, 6 back). Each key changes the middle
 //! of the screen, and pressing it again restores it pixel for pixel (the
-//! renderer is deterministic). With the ghost and the slab on, the window
-//! still idles.
+//! renderer is deterministic). Then a rotatable bond: Tab selects it,
+//! Shift+' turns it and Ctrl+Z turns it back. With the ghost and the slab
+//! on, the window still idles.
 //!
 //! Needs `Xvfb`, `xdotool`, ImageMagick's `import` (CI installs them) and
 //! `../shared/pdb`; elsewhere a missing one skips the test with a message.
@@ -193,6 +194,33 @@ fn each_view_key_changes_the_picture_and_toggling_back_restores_it() {
         0,
         "5 then 6 is not the same slab"
     );
+
+    // The drug's torsions (issue 44), with the slab off: Tab selects a
+    // rotatable bond (drawn over the drug in orange with its angle),
+    // Shift+' turns it 30° through the collision response, and Ctrl+Z
+    // takes the turn back to the picture before it.
+    taps(&d, "4", 1);
+    let plain = settled(&d, &dir, "slab-off");
+    assert_eq!(centre_difference(&moved, &plain), 0, "4 twice");
+    taps(&d, "Tab", 1);
+    let bond = settled(&d, &dir, "bond");
+    let shown = centre_difference(&plain, &bond);
+    eprintln!("Tab: {shown} pixels changed in the middle of the screen");
+    assert!(shown > 20, "Tab drew no bond\n{}", text());
+    taps(&d, "shift+apostrophe", 1);
+    let turned = settled(&d, &dir, "turned");
+    let turn = centre_difference(&bond, &turned);
+    eprintln!("Shift+': {turn} pixels changed in the middle of the screen");
+    assert!(turn > 20, "Shift+' turned nothing\n{}", text());
+    taps(&d, "ctrl+z", 1);
+    let undone = settled(&d, &dir, "undone");
+    assert_eq!(
+        centre_difference(&bond, &undone),
+        0,
+        "Ctrl+Z did not take the turn back\n{}",
+        text()
+    );
+    taps(&d, "4", 1);
 
     // Ghost and slab on: nothing moves, so the window idles.
     taps(&d, "y", 1);

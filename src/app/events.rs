@@ -21,6 +21,8 @@ use crate::session::{Command, Motion6};
 const CLICK_SLOP: f64 = 3.0;
 /// Two clicks this close in time (and within [`CLICK_SLOP`]) are a double click.
 const DOUBLE_CLICK: Duration = Duration::from_millis(400);
+/// Turn of the selected rotatable bond per pixel of an Alt+drag, degrees.
+const TORSION_PER_PIXEL: f64 = 0.5;
 /// Zoom of one wheel notch, in the session's zoom steps (0.9 each): about 5 %.
 const WHEEL_ZOOM: f64 = 0.5;
 
@@ -157,6 +159,15 @@ impl App {
                 );
                 self.hud.say(msg);
             }
+            ShellAction::ToggleTorsionStick => {
+                self.hud.torsion_stick = !self.hud.torsion_stick;
+                let msg = if self.hud.torsion_stick {
+                    "torsion mode on: the joystick's rotation turns the selected bond (Tab selects)"
+                } else {
+                    "torsion mode off: the joystick's rotation turns again"
+                };
+                self.hud.say(msg);
+            }
             ShellAction::ToggleResidueLabels => {
                 let p = &mut self.hud.score.pocket;
                 p.labels = !p.labels;
@@ -205,7 +216,10 @@ impl App {
         let pan = DVec3::new(dx * per_px, -dy * per_px, 0.0);
         let turn = DVec3::new(dy, dx, 0.0) * (std::f64::consts::PI / w.max(1.0));
         let only = |translate: DVec3, rotate: DVec3| Motion6 { translate, rotate };
-        if self.mods.ctrl && self.mouse.left {
+        if self.mods.alt && self.mouse.left {
+            // Alt+drag turns the selected rotatable bond: right turns it on.
+            self.pending.torsion_nudge += dx * TORSION_PER_PIXEL;
+        } else if self.mods.ctrl && self.mouse.left {
             // Modifier-drag moves the selected molecule (through collisions).
             let m = if self.mods.shift {
                 only(DVec3::ZERO, turn)
@@ -260,7 +274,8 @@ impl App {
 
     /// A click: marks the atom under the pointer (or clears the mark);
     /// with Ctrl, or a second click at the same place, also selects its
-    /// molecule.
+    /// molecule; with Alt, selects its molecule and the rotatable bond
+    /// nearest to it.
     fn click(&mut self) {
         let Some(g) = &self.gfx else { return };
         let (x, y) = self.mouse.pos;
@@ -284,10 +299,13 @@ impl App {
                 pick::pick_clipped(&self.session, x - vx, y - vy, vw, vh, aspect, slab)
             });
         self.hud.picked = hit;
-        if let Some((b, _)) = hit
-            && (self.mods.ctrl || double)
-        {
+        let Some((b, atom)) = hit else { return };
+        let other = b != self.session.selected();
+        if self.mods.ctrl || double || (self.mods.alt && other) {
             self.pending.commands.push(Command::Select(b));
+        }
+        if self.mods.alt {
+            self.pending.commands.push(Command::SelectTorsionNear(atom));
         }
     }
 
@@ -390,7 +408,19 @@ impl ApplicationHandler for App {
         let consumed = match &mut self.gfx {
             Some(g) => {
                 let r = g.egui_state.on_window_event(&g.window, &event);
-                let consumed = r.consumed;
+                // egui-winit takes every Tab (to move its focus); here Tab
+                // selects the drug's next rotatable bond (hud_pass keeps it
+                // from egui), unless a text field has the keyboard.
+                let tab = matches!(
+                    &event,
+                    WindowEvent::KeyboardInput { event: k, .. }
+                        if k.physical_key == PhysicalKey::Code(KeyCode::Tab)
+                );
+                let consumed = if tab {
+                    g.egui_ctx.egui_wants_keyboard_input()
+                } else {
+                    r.consumed
+                };
                 // egui asks to repaint for every RedrawRequested, the frame
                 // this event is about to draw: asking again for it would
                 // redraw for ever (the window never idled: 40–80 % of a

@@ -68,7 +68,14 @@ impl App {
         let mut input = std::mem::take(&mut self.pending);
         self.route_keys(&mut input, start, dt);
         if let Some(j) = &self.joysticks {
-            j.intents().add_to(&mut input);
+            let intents = j.intents();
+            if self.hud.torsion_stick {
+                let (rest, turn) = intents.turning_torsion();
+                rest.add_to(&mut input);
+                input.torsion_velocity += turn;
+            } else {
+                intents.add_to(&mut input);
+            }
         }
         let hud = self.hud_pass(&mut input)?;
         // A replay ignores live input and steps only when a recorded frame is due.
@@ -242,6 +249,9 @@ impl App {
                 g.window.request_redraw();
             }
         }
+        if let Some(p) = &out.settled {
+            self.settle_show = Some(super::settle_show::SettleShow::new(p.clone(), now));
+        }
         if let Some(s) = &out.score {
             self.hud.score.push(s.clone());
         }
@@ -297,6 +307,28 @@ impl App {
             g.spheres.set_colors(&g.gpu.queue, &changes);
             panel.colors.shown = panel.by_contribution;
         }
+        if let Some(show) = &self.settle_show {
+            let b = show.path.body;
+            // A move, undo or turn during the animation ends it at once.
+            let moved = self.session.bodies().get(b).map(|x| x.pose) != Some(show.path.to)
+                || self.session.torsion_angles(b) != show.path.to_torsions.as_slice();
+            let shape = if show.done(now) || moved {
+                g.spheres.show_pose(None);
+                self.settle_show = None;
+                self.session
+                    .bodies()
+                    .get(b)
+                    .map(|x| x.molecule.local.clone())
+            } else {
+                let (pose, torsions) = show.at(show.share(now));
+                g.spheres.show_pose(Some((b, pose)));
+                self.session.shape_at(b, &torsions).map(|(atoms, _)| atoms)
+            };
+            if let Some(local) = shape {
+                g.spheres.set_local_positions(&g.gpu.queue, b, &local);
+            }
+        }
+        let panel = &mut self.hud.score;
         let hbonds = panel.last.as_deref().filter(|_| panel.hbonds);
         panel.pocket.sync(
             &g.gpu.device,
@@ -335,7 +367,8 @@ impl App {
         let animating = self.hud.view.animating()
             || self.session.rock().is_on()
             || input.has_velocity()
-            || self.loader.is_some();
+            || self.loader.is_some()
+            || self.settle_show.is_some();
         let mut at: Vec<Instant> = Vec::new();
         if let Some(s) = self.session.keys().next_repeat_in() {
             at.push(now + Duration::from_secs_f64(s));

@@ -62,6 +62,9 @@ pub struct HudState {
     pub view: super::stereo::ViewState,
     /// The live score and the views of the fit.
     pub score: super::score_panel::ScorePanel,
+    /// The torsion mode of the joysticks: their rotation turns the
+    /// selected rotatable bond.
+    pub torsion_stick: bool,
 }
 
 impl HudState {
@@ -240,6 +243,7 @@ fn top_bar(ui: &mut egui::Ui, session: &Session, hud: &mut HudState, cmds: &mut 
     cmds.extend(c);
     said.into_iter().for_each(|m| hud.say(m));
     ui.separator();
+    torsion_controls(ui, session, hud, cmds);
     ui.label(step_text(hud.step));
     ui.separator();
     ui.monospace(format!("Contacts {:>4}", session.contacts().len()));
@@ -284,6 +288,49 @@ fn top_bar(ui: &mut egui::Ui, session: &Session, hud: &mut HudState, cmds: &mut 
     if ui.button("Help (F1)").clicked() {
         hud.help_requested = true;
     }
+}
+
+/// The selected molecule's rotatable bonds: which is selected (with its
+/// angle) and the joysticks' torsion mode; nothing for a rigid molecule.
+fn torsion_controls(
+    ui: &mut egui::Ui,
+    session: &Session,
+    hud: &mut HudState,
+    cmds: &mut Vec<Command>,
+) {
+    let b = session.selected();
+    let n = session.rotatable_bonds(b).len();
+    if n == 0 {
+        return;
+    }
+    if ui
+        .button("◀")
+        .on_hover_text("previous rotatable bond (Shift+Tab)")
+        .clicked()
+    {
+        cmds.push(Command::PreviousTorsion);
+    }
+    let text = match session.selected_torsion() {
+        Some(k) => {
+            let a = session
+                .torsion_angles(b)
+                .get(k)
+                .map_or(0.0, |a| a.to_degrees());
+            format!("bond {:>2}/{n} {a:>+5.0}°", k + 1)
+        }
+        None => format!("bond  –/{n}      "),
+    };
+    ui.monospace(text);
+    if ui
+        .button("▶")
+        .on_hover_text("next rotatable bond (Tab); ; and ' turn it")
+        .clicked()
+    {
+        cmds.push(Command::NextTorsion);
+    }
+    ui.checkbox(&mut hud.torsion_stick, "Stick turns bond")
+        .on_hover_text("the joystick's rotation turns the selected bond (\\)");
+    ui.separator();
 }
 
 fn bottom_bar(ui: &mut egui::Ui, session: &Session, hud: &mut HudState, cmds: &mut Vec<Command>) {

@@ -108,6 +108,9 @@ pub enum ShellAction {
     TogglePocket,
     /// Labels of the pocket's residues on/off.
     ToggleResidueLabels,
+    /// The torsion mode of the joysticks' rotation on/off: it turns the
+    /// selected rotatable bond instead of the molecule or the view.
+    ToggleTorsionStick,
 }
 
 /// What a binding does.
@@ -335,6 +338,11 @@ pub const TABLE: &[Entry] = &[
         "turn the selected rotatable bond on, fine (+1°)",
     ),
     row(
+        &[(K::Backslash, N)],
+        W(ShellAction::ToggleTorsionStick),
+        "torsion mode on/off: the joystick's rotation turns the selected rotatable bond (Alt+drag turns it with the mouse)",
+    ),
+    row(
         &[(K::KeyG, Mods::SHIFT)],
         S(Command::Settle),
         "settle the drug: a local minimisation of its Vina score over pose and torsions that ends free of overlaps (undoable)",
@@ -514,6 +522,14 @@ pub const MOUSE: &[(&str, &str)] = &[
     ),
     ("Ctrl+Shift+drag", "turn the selected molecule"),
     ("Click", "mark an atom and name it"),
+    (
+        "Alt+click",
+        "select the rotatable bond nearest the atom (and the atom's molecule)",
+    ),
+    (
+        "Alt+drag",
+        "turn the selected rotatable bond (through collisions; 0.5° a pixel)",
+    ),
     ("Ctrl+click, double click", "select the atom's molecule"),
 ];
 
@@ -579,6 +595,7 @@ pub fn key_name(key: KeyCode) -> String {
         K::Equal => "=",
         K::Semicolon => ";",
         K::Quote => "'",
+        K::Backslash => "\\",
         other => {
             let d = format!("{other:?}");
             return d

@@ -9,7 +9,8 @@
 //!
 //! Nothing is drawn when nothing changed: the loop sleeps until an event,
 //! and asks for frames on its own only while something animates (rocking,
-//! a stereo mode that alternates eyes, a held joystick, a load in progress)
+//! a stereo mode that alternates eyes, a held joystick, a load in progress,
+//! a settle's animation)
 //! or at a known time (a held key's next repeat, a status message that
 //! expires, the end of a contact flash).
 //!
@@ -20,7 +21,7 @@
 //! | [`gfx`] | the window's GPU state and the painting of scene and HUD |
 //! | `files` | opening, loading in the background, saving poses, screenshots |
 //! | [`hud`], [`overlay`], [`dialogs`] | what is drawn over the scene |
-//! | [`keymap`], [`saving`], [`stereo`], [`pick`] | pure parts, unit-tested |
+//! | [`keymap`], [`saving`], [`stereo`], [`pick`], [`settle_show`] | pure parts, unit-tested |
 
 pub mod beep;
 pub mod dialogs;
@@ -38,6 +39,7 @@ pub mod player;
 pub mod pocket;
 pub mod saving;
 pub mod score_panel;
+pub mod settle_show;
 pub mod stereo;
 
 use std::path::PathBuf;
@@ -226,6 +228,8 @@ struct App {
     light_keys: KeySteps,
     light: DVec3,
     flash_until: Option<Instant>,
+    /// A settle being animated.
+    settle_show: Option<settle_show::SettleShow>,
     /// When the last frame was drawn.
     last_frame: Instant,
     /// The last frame asked for no other: the next frame's interval starts
@@ -268,6 +272,7 @@ impl App {
             light_keys: KeySteps::default(),
             light: ViewParams::default().light,
             flash_until: None,
+            settle_show: None,
             last_frame: Instant::now(),
             idle: true,
             woke_at: None,

@@ -1,7 +1,8 @@
 //! Marks drawn over the scene with egui's painter: the atom the user
 //! clicked (a ring and its name), the drug (corner brackets and its
-//! name, always on, so a drug hidden inside the receptor is still found)
-//! and, when asked, the names of the pocket's residues at their alpha
+//! name, always on, so a drug hidden inside the receptor is still found),
+//! the selected rotatable bond (a thick orange line along it, with its
+//! number and angle) and, when asked, the names of the pocket's residues at their alpha
 //! carbons (Shift+P). Hydrogen bonds are drawn by the renderer, as dashed
 //! sticks.
 //!
@@ -55,6 +56,8 @@ pub fn project(cam: &Camera, v: Viewport, p: DVec3, radius: f64) -> Option<(f64,
 
 const DRUG: egui::Color32 = egui::Color32::from_rgb(255, 214, 64);
 const PICKED: egui::Color32 = egui::Color32::from_rgb(90, 220, 255);
+/// The selected rotatable bond: orange, apart from every element colour.
+const BOND: egui::Color32 = egui::Color32::from_rgb(255, 140, 0);
 /// Residue labels: light grey, as ChimeraX writes them.
 const RESIDUE: egui::Color32 = egui::Color32::from_rgb(225, 225, 225);
 
@@ -110,6 +113,7 @@ pub fn draw(
                 );
             }
         }
+        selected_bond(&painter, session, &cam, v, ppp, &font);
         let Some((k, i)) = picked else { continue };
         let Some(b) = session.bodies().get(k) else {
             continue;
@@ -131,6 +135,45 @@ pub fn draw(
             );
         }
     }
+}
+
+/// The selected molecule's selected rotatable bond in viewport `v`: a
+/// thick line between its two atoms and, beside its middle, which bond of
+/// how many it is and its torsion (degrees from the file's angle).
+fn selected_bond(
+    painter: &egui::Painter,
+    session: &Session,
+    cam: &Camera,
+    v: Viewport,
+    ppp: f64,
+    font: &egui::FontId,
+) {
+    let b = session.selected();
+    let (Some(k), Some(body)) = (session.selected_torsion(), session.bodies().get(b)) else {
+        return;
+    };
+    let bonds = session.rotatable_bonds(b);
+    let Some(bond) = bonds.get(k) else { return };
+    let at = |i: u32| {
+        let p = body.molecule.local.get(i as usize)?;
+        project(cam, v, body.pose.transform_point(p.as_dvec3()), 0.0)
+    };
+    let (Some((x0, y0, _)), Some((x1, y1, _))) = (at(bond.atoms[0]), at(bond.atoms[1])) else {
+        return;
+    };
+    let pt = |x: f64, y: f64| egui::pos2((x / ppp) as f32, (y / ppp) as f32);
+    painter.line_segment([pt(x0, y0), pt(x1, y1)], egui::Stroke::new(4.0, BOND));
+    let angle = session
+        .torsion_angles(b)
+        .get(k)
+        .map_or(0.0, |a| a.to_degrees());
+    painter.text(
+        pt(0.5 * (x0 + x1), 0.5 * (y0 + y1)) + egui::vec2(6.0, -6.0),
+        egui::Align2::LEFT_BOTTOM,
+        format!("bond {}/{} {angle:+.0}°", k + 1, bonds.len()),
+        font.clone(),
+        BOND,
+    );
 }
 
 /// Four corner brackets of a square of half-size `half` around `c`.

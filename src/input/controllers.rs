@@ -82,6 +82,28 @@ impl Intents {
         input.object_velocity = input.object_velocity.plus(&self.object_velocity);
     }
 
+    /// The torsion mode of the rotation stick: the rotation that would
+    /// move the molecule (one box's, or the second box's with two) turns
+    /// the selected rotatable bond instead. Returns the intents without
+    /// that rotation and the bond's turn, degrees per second: the rotation
+    /// vector's largest component, with its sign, so any gesture of the
+    /// stick turns the bond and the opposite gesture turns it back.
+    pub fn turning_torsion(&self) -> (Intents, f64) {
+        let mut out = *self;
+        let r = self.velocity.rotate + self.object_velocity.rotate;
+        out.velocity.rotate = glam::DVec3::ZERO;
+        out.object_velocity.rotate = glam::DVec3::ZERO;
+        let a = r.abs();
+        let largest = if a.x >= a.y && a.x >= a.z {
+            r.x
+        } else if a.y >= a.z {
+            r.y
+        } else {
+            r.z
+        };
+        (out, largest.to_degrees())
+    }
+
     /// True when no stick is deflected.
     pub fn is_zero(&self) -> bool {
         self.velocity.is_zero() && self.view_velocity.is_zero() && self.object_velocity.is_zero()
@@ -274,6 +296,39 @@ mod tests {
         let mut input = FrameInput::default();
         two.add_to(&mut input);
         assert_eq!(input.view_velocity, two.view_velocity);
+    }
+
+    #[test]
+    fn the_torsion_mode_turns_the_bond_with_the_molecules_rotation() {
+        let m = JoystickMap::default();
+        let mut c = Controllers::default();
+        connect(&mut c, &m, 5, "T.16000M rotation", false);
+        connect(&mut c, &m, 2, "T.16000M translation", false);
+        set(&mut c, &m, 2, "LeftStickX", 1.0);
+        set(&mut c, &m, 5, "RightZ", -1.0);
+        let i = c.intents(&m, false);
+        let (rest, turn) = i.turning_torsion();
+        assert!((turn + m.rotate_speed).abs() < 1e-9, "{turn}");
+        assert_eq!(rest.velocity.translate, i.velocity.translate);
+        assert!(rest.velocity.rotate == DVec3::ZERO);
+        // With two boxes the view box keeps its rotation.
+        let two = Intents {
+            view_velocity: Motion6 {
+                translate: DVec3::ZERO,
+                rotate: DVec3::new(0.3, 0.0, 0.0),
+            },
+            object_velocity: Motion6 {
+                translate: DVec3::X,
+                rotate: DVec3::new(0.1, -0.5, 0.2),
+            },
+            ..Intents::default()
+        };
+        let (rest, turn) = two.turning_torsion();
+        assert_eq!(turn, (-0.5f64).to_degrees());
+        assert_eq!(rest.view_velocity, two.view_velocity);
+        assert_eq!(rest.object_velocity.translate, DVec3::X);
+        assert!(rest.object_velocity.rotate == DVec3::ZERO);
+        assert_eq!(Intents::default().turning_torsion().1, 0.0);
     }
 
     #[test]

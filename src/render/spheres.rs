@@ -20,7 +20,7 @@
 //! ([`super::slab`]) is two depths in the eye's uniform.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{DMat4, DQuat, DVec3, Mat4};
+use glam::{DMat4, DQuat, DVec3, Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
 use super::colors;
@@ -29,6 +29,7 @@ use super::ghost::ghost_pose;
 use super::pipelines::{Pipelines, Role, SHADOW_SIZE, SphereKey, sphere_layout};
 use super::stereo::{EyeView, off_axis};
 use super::view::{ViewParams, depth_range_for, model_views, perspective, scene_sphere};
+use crate::motion::Pose;
 use crate::session::{Reshaped, Session};
 
 /// Depth buffer format.
@@ -172,6 +173,9 @@ pub struct SphereRenderer {
     words: Vec<u32>,
     stats: UploadStats,
     last: FrameStats,
+    /// A molecule drawn at a pose other than its session pose (a settle's
+    /// animation).
+    shown: Option<(usize, Pose)>,
 }
 
 /// Light, fog and shadow settings shared by the eyes of a frame.
@@ -293,6 +297,7 @@ impl SphereRenderer {
             words,
             stats,
             last: FrameStats::default(),
+            shown: None,
         }
     }
 
@@ -472,6 +477,42 @@ impl SphereRenderer {
         }
         let (n, bytes) = self.upload_atoms(queue, dirty);
         self.stats.radius_bytes += bytes;
+        n
+    }
+
+    /// Draws molecule `body` at `pose` rather than at its session pose
+    /// (the frames of a settle's animation), or, with `None`, every
+    /// molecule at its session pose again.
+    pub fn show_pose(&mut self, shown: Option<(usize, Pose)>) {
+        self.shown = shown;
+    }
+
+    /// Rewrites all of molecule `body`'s atom positions with `local` (its
+    /// own frame, one per atom: a conformation on its way somewhere, as a
+    /// settle's animation shows it). Returns how many atoms were
+    /// rewritten; none when the count does not fit.
+    pub fn set_local_positions(
+        &mut self,
+        queue: &wgpu::Queue,
+        body: usize,
+        local: &[Vec3],
+    ) -> usize {
+        let Some(&base) = self.offsets.get(body) else {
+            return 0;
+        };
+        let end = self
+            .offsets
+            .get(body + 1)
+            .copied()
+            .unwrap_or(self.atoms.len());
+        if end.saturating_sub(base) != local.len() {
+            return 0;
+        }
+        for (a, p) in self.atoms[base..end].iter_mut().zip(local) {
+            a.pos_radius[..3].copy_from_slice(&p.to_array());
+        }
+        let (n, bytes) = self.upload_atoms(queue, (base..end).collect());
+        self.stats.position_bytes += bytes;
         n
     }
 
@@ -770,6 +811,13 @@ impl SphereRenderer {
             .iter()
             .map(Mat4::to_cols_array)
             .collect();
+        if let Some((b, pose)) = self.shown
+            && let Some(mv) = mvs.get_mut(b)
+        {
+            let view = session.view_camera().view_matrix();
+            let model = DMat4::from_rotation_translation(pose.rotation, pose.translation);
+            *mv = (view * model).as_mat4().to_cols_array();
+        }
         // The ghost's matrix follows the molecules' (composed in f64 too).
         let ghost = params.ghost.and(ghost_pose(session)).map(|(d, pose)| {
             let view = session.view_camera().view_matrix();
