@@ -158,6 +158,9 @@ struct Row {
     median_frames: Option<f64>,
     deepest: f64,
     least_deepest: f64,
+    /// Runs whose deepest overlap stays within the soft limit (under
+    /// `pass`: the straight paths `soft` could follow).
+    within_limit: usize,
     step_median: f64,
     step_p99: f64,
     /// Runs settled, median settled RMSD, collision-free after settle.
@@ -195,6 +198,10 @@ fn summarise(complex: &'static str, opts: SteerOptions, runs: &[Run]) -> Row {
             .iter()
             .map(|r| r.deepest_overlap)
             .fold(f64::INFINITY, f64::min),
+        within_limit: done
+            .iter()
+            .filter(|r| r.deepest_overlap <= bump::collide::soft::DEFAULT_LIMIT + 1e-9)
+            .count(),
         step_median: median(&steps),
         step_p99: quantile(&steps, 0.99),
     }
@@ -259,12 +266,14 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
          the deepest overlap beyond the contact rule over every run; *least deepest* the least \
          of the runs' deepest overlaps (under `pass`, collision off, how far the best straight \
          path from outside presses into the receptor: more than the soft limit means no \
-         response that keeps to it can follow a straight path in). Step times are each \
+         response that keeps to it can follow a straight path in); *straight within the \
+         limit*, under `pass`, how many starts have a straight path in whose deepest overlap \
+         stays within the soft limit. Step times are each \
          collision response's (a rigid move or one bond's turn), over every run. The soft \
          flexible runs then settle (the session's settle, exact Vina): the median heavy-atom \
          RMSD after settle and how many end free of overlaps. {} runs in {seconds:.0} s.\n\n\
-         | complex | drug | response | starts | reached | rate | frames (median) | deepest Å | least deepest Å | step µs (median) | step µs (p99) | settled RMSD Å (median) | settled collision-free |\n\
-         | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+         | complex | drug | response | starts | reached | rate | frames (median) | deepest Å | least deepest Å | straight within the limit | step µs (median) | step µs (p99) | settled RMSD Å (median) | settled collision-free |\n\
+         | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
         rows.iter().map(|r| r.starts).sum::<usize>()
     ));
     for r in &rows {
@@ -272,8 +281,13 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
             Some((k, rmsd, free)) if k > 0 => (format!("{rmsd:.2}"), format!("{free} of {k}")),
             _ => ("–".to_string(), "–".to_string()),
         };
+        let within = if r.response == Response::Pass {
+            format!("{} of {}", r.within_limit, r.starts)
+        } else {
+            "–".to_string()
+        };
         md.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {:.0} % | {} | {:.2} | {:.2} | {:.1} | {:.1} | {settled_rmsd} | {free} |\n",
+            "| {} | {} | {} | {} | {} | {:.0} % | {} | {:.2} | {:.2} | {within} | {:.1} | {:.1} | {settled_rmsd} | {free} |\n",
             r.complex,
             if r.flexible { "flexible" } else { "rigid" },
             r.response.name(),

@@ -32,6 +32,7 @@ mod svg;
 mod table1;
 mod timing;
 mod versus;
+mod views;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -46,6 +47,7 @@ const SECTIONS: &[&Section] = &[
     &layers::SECTION,
     &table1::SECTION,
     &frames::SECTION,
+    &views::SECTION,
     &load::SECTION,
     &score::SECTION,
     &dockability::SECTION,
