@@ -1,9 +1,12 @@
 //! The scoring's section: AutoDock Vina's energy with its gradient from
 //! maps and exactly, the maps' build, settle, their cost against receptor
 //! size and the maps' error against exact, beside Vina's own times
-//! (`bump_testkit::score_bench`, which `cargo bench --bench score` shares).
+//! (`bump_testkit::score_bench`, which `cargo bench --bench score` shares),
+//! then settle's rates from perturbed crystal poses on every complex of the
+//! Vina reference (`bump_testkit::settle_rates`, which `tests/settle.rs`
+//! checks).
 
-use bump_testkit::score_bench;
+use bump_testkit::{score_bench, settle_rates};
 
 use super::timing::Progress;
 use super::{Context, Part, Section};
@@ -25,5 +28,6 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
         Err(skipped) => return skipped,
     };
     progress.step("scoring");
-    Part::text(score_bench::markdown(data, ctx.quick))
+    let runs = if ctx.quick { 2 } else { 12 };
+    Part::text(score_bench::markdown(data, ctx.quick) + &settle_rates::markdown(data, runs))
 }

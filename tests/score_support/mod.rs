@@ -147,28 +147,9 @@ pub fn complex_names(v: &Value) -> Vec<String> {
     names
 }
 
-/// The shared complexes of the reference: id, receptor file, ligand
-/// residue in the receptor file (empty: none) and ligand SDF.
-pub const COMPLEXES: &[(&str, &str, &str, Option<&str>)] = &[
-    ("1hvr_XK2", "1hvr.pdb", "XK2:A", None),
-    ("1rx1_NAP", "1rx1.pdb", "NAP:A", None),
-    (
-        "1s3v_TQD",
-        "1s3v_protein.pdb",
-        "",
-        Some("1s3v_ligand_tqd.sdf"),
-    ),
-    ("1u72_MTX", "1u72.pdb", "MTX:A", None),
-    ("3nzd_D2Q", "3nzd.cif", "D2Q:A", None),
-    ("3ptb_BEN", "3ptb.pdb", "BEN", Some("benzamidine_3ptb.sdf")),
-    ("4dfr_MTX", "4dfr.pdb", "MTX:A", None),
-    (
-        "6xg5_TOP",
-        "6xg5_tmp_prepared.pdb",
-        "TOP",
-        Some("trimethoprim_top_6xg5pose.sdf"),
-    ),
-];
+/// The shared complexes of the reference and how they are loaded, shared
+/// with the report's settle rates.
+pub use bump_testkit::settle_rates::{COMPLEXES, load_complex};
 
 /// `../shared/pdb`, or `None` (with a message) when it is absent outside CI.
 pub fn shared_pdb() -> Option<PathBuf> {
@@ -182,34 +163,6 @@ pub fn shared_pdb() -> Option<PathBuf> {
     );
     eprintln!("skipping: ../shared/pdb is missing");
     None
-}
-
-/// A complex loaded by bump as the reference prepared it: the receptor is
-/// the file's polymer (`ATOM` records: every hetero group, waters, ions and
-/// cofactors included, left out, as `make_reference.py` does), the drug the
-/// SDF or the named residue.
-pub fn load_complex(
-    dir: &std::path::Path,
-    id: &str,
-) -> (bump::model::Molecule, bump::model::Molecule) {
-    use bump::model::{self, LigandSpec, LoadOptions};
-    let &(_, file, residue, sdf) = COMPLEXES.iter().find(|c| c.0 == id).expect("a complex");
-    let s = model::load(&dir.join(file), &LoadOptions::default())
-        .expect(file)
-        .structure;
-    let polymer: Vec<usize> = (0..s.atoms.len()).filter(|&i| !s.atoms[i].hetero).collect();
-    let receptor = model::select::molecule_from(&s, &polymer, format!("{file} polymer"));
-    let drug = match sdf {
-        Some(f) => {
-            let d = model::load(&dir.join(f), &LoadOptions::default()).expect(f);
-            model::receptor_only(&d.structure).expect(f)
-        }
-        None => {
-            let spec = LigandSpec::parse(residue).expect("spec");
-            model::split_complex(&s, &spec).expect(id).1
-        }
-    };
-    (receptor, drug)
 }
 
 /// A pose of the reference as a relative pose of bump's drug against

@@ -11,6 +11,8 @@
 //!   scaling benchmarks.
 //! - [`parry`]: parry3d doing move-to-touch, the independent baseline.
 //! - [`score_bench`]: the scoring's benchmark setups and report section.
+//! - [`settle_rates`]: settle from perturbed crystal poses on the Vina
+//!   reference's complexes, checked by a test and printed by the report.
 //!
 //! A dev-dependency of bump only: the product does not link parry3d.
 
@@ -20,6 +22,7 @@ pub mod oracle;
 pub mod parry;
 pub mod rng;
 pub mod score_bench;
+pub mod settle_rates;
 pub mod surface;
 
 pub use data::shared_pdb;
