@@ -11,87 +11,12 @@
 
 mod common;
 
-use std::path::Path;
-use std::process::Command;
 use std::thread::sleep;
 use std::time::Duration;
 
-use common::x11::{finish, screen, taps, wait_exit, xdotool};
-
-/// CPU seconds (user + system) process `pid` has used.
-fn cpu_seconds(pid: u32) -> f64 {
-    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).expect("/proc stat");
-    // Fields after the command's closing parenthesis; utime and stime are
-    // the 14th and 15th of the whole line.
-    let rest = &stat[stat.rfind(')').expect("stat") + 2..];
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks: f64 = f[11].parse::<f64>().expect("utime") + f[12].parse::<f64>().expect("stime");
-    let hz = Command::new("getconf")
-        .arg("CLK_TCK")
-        .output()
-        .ok()
-        .and_then(|o| {
-            String::from_utf8_lossy(&o.stdout)
-                .trim()
-                .parse::<f64>()
-                .ok()
-        })
-        .unwrap_or(100.0);
-    ticks / hz
-}
-
-/// A screenshot of the whole screen, as RGB pixels.
-fn shot(display: &str, path: &Path) -> image::RgbImage {
-    let ok = Command::new("import")
-        .args(["-window", "root", path.to_str().expect("path")])
-        .env("DISPLAY", display)
-        .status()
-        .expect("import");
-    assert!(ok.success(), "screenshot failed");
-    image::open(path).expect("read screenshot").to_rgb8()
-}
-
-/// Pixels that differ between `a` and `b` in the middle of the screen
-/// (where the help and the confirmation are drawn; the HUD bars, whose
-/// frame time changes, are outside it).
-fn centre_difference(a: &image::RgbImage, b: &image::RgbImage) -> usize {
-    let (w, h) = a.dimensions();
-    let mut n = 0;
-    for y in h / 4..3 * h / 4 {
-        for x in w / 4..3 * w / 4 {
-            let (p, q) = (a.get_pixel(x, y).0, b.get_pixel(x, y).0);
-            if p.iter().zip(q).any(|(u, v)| u.abs_diff(v) > 24) {
-                n += 1;
-            }
-        }
-    }
-    n
-}
-
-/// Presses `key` (with `shift`) for 100 ms, then waits 250 ms.
-fn tap(display: &str, key: &str, shift: bool) {
-    if shift {
-        xdotool(display, &["keydown", "shift"]);
-    }
-    xdotool(display, &["keydown", key]);
-    sleep(Duration::from_millis(100));
-    xdotool(display, &["keyup", key]);
-    if shift {
-        xdotool(display, &["keyup", "shift"]);
-    }
-    sleep(Duration::from_millis(250));
-}
-
-/// Waits until `f` holds (checked every 0.5 s, up to 20 s).
-fn eventually(mut f: impl FnMut() -> bool) -> bool {
-    for _ in 0..40 {
-        if f() {
-            return true;
-        }
-        sleep(Duration::from_millis(500));
-    }
-    false
-}
+use common::x11::{
+    centre_difference, cpu_seconds, eventually, finish, screen, shot, tap, taps, wait_exit,
+};
 
 #[test]
 fn keys_step_exactly_escape_closes_dialogs_quitting_asks_and_the_window_idles() {
@@ -134,13 +59,13 @@ fn keys_step_exactly_escape_closes_dialogs_quitting_asks_and_the_window_idles() 
     let before = shot(&d, &dir.join("a.png"));
     taps(&d, "F1", 1);
     assert!(
-        eventually(|| centre_difference(&before, &shot(&d, &dir.join("b.png"))) > 5000),
+        eventually(|| centre_difference(&before, &shot(&d, &dir.join("b.png")), 24) > 5000),
         "F1 showed no help\n{}",
         text()
     );
     taps(&d, "Escape", 1);
     assert!(
-        eventually(|| centre_difference(&before, &shot(&d, &dir.join("c.png"))) < 500),
+        eventually(|| centre_difference(&before, &shot(&d, &dir.join("c.png")), 24) < 500),
         "Escape did not close the help\n{}",
         text()
     );
@@ -152,14 +77,14 @@ fn keys_step_exactly_escape_closes_dialogs_quitting_asks_and_the_window_idles() 
     // Escape with nothing open and a moved drug asks; Escape cancels.
     taps(&d, "Escape", 1);
     assert!(
-        eventually(|| centre_difference(&before, &shot(&d, &dir.join("d.png"))) > 2000),
+        eventually(|| centre_difference(&before, &shot(&d, &dir.join("d.png")), 24) > 2000),
         "no confirmation before quitting with unsaved moves\n{}",
         text()
     );
     assert!(app.0.try_wait().expect("wait").is_none(), "quit unasked");
     taps(&d, "Escape", 1);
     assert!(
-        eventually(|| centre_difference(&before, &shot(&d, &dir.join("e.png"))) < 500),
+        eventually(|| centre_difference(&before, &shot(&d, &dir.join("e.png")), 24) < 500),
         "Escape did not cancel the confirmation\n{}",
         text()
     );

@@ -15,11 +15,10 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 use std::thread::sleep;
 use std::time::Duration;
 
-use common::x11::{screen, taps, xdotool};
+use common::x11::{centre_difference, cpu_seconds, screen, shot, tap, taps};
 
 /// The ball-and-stick pocket's key, `p`, when the window has it: when the
 /// key table (docs/keys.md, which a test keeps equal to it) binds P.
@@ -29,56 +28,6 @@ fn ball_and_stick_key() -> Option<&'static str> {
     keys.lines().any(|l| l.starts_with("| P |")).then_some("p")
 }
 
-/// A screenshot of the whole screen, as RGB pixels.
-fn shot(display: &str, path: &Path) -> image::RgbImage {
-    let ok = Command::new("import")
-        .args(["-window", "root", path.to_str().expect("path")])
-        .env("DISPLAY", display)
-        .status()
-        .expect("import");
-    assert!(ok.success(), "screenshot failed");
-    image::open(path).expect("read screenshot").to_rgb8()
-}
-
-/// Pixels that differ at all between `a` and `b` in the middle of the
-/// screen (the HUD's bars and panels, whose timings change, lie outside).
-fn centre_difference(a: &image::RgbImage, b: &image::RgbImage) -> usize {
-    let (w, h) = a.dimensions();
-    let mut n = 0;
-    for y in h / 4..3 * h / 4 {
-        for x in w / 4..3 * w / 4 {
-            if a.get_pixel(x, y) != b.get_pixel(x, y) {
-                n += 1;
-            }
-        }
-    }
-    n
-}
-
-/// CPU seconds (user + system) process `pid` has used (Linux's 100 clock
-/// ticks a second).
-fn cpu_seconds(pid: u32) -> f64 {
-    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).expect("/proc stat");
-    let rest = &stat[stat.rfind(')').expect("stat") + 2..];
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks: f64 = f[11].parse::<f64>().expect("utime") + f[12].parse::<f64>().expect("stime");
-    ticks / 100.0
-}
-
-/// Presses `key` (with `shift`) for 100 ms, then waits 250 ms.
-fn tap(display: &str, key: &str, shift: bool) {
-    if shift {
-        xdotool(display, &["keydown", "shift"]);
-    }
-    xdotool(display, &["keydown", key]);
-    sleep(Duration::from_millis(100));
-    xdotool(display, &["keyup", key]);
-    if shift {
-        xdotool(display, &["keyup", "shift"]);
-    }
-    sleep(Duration::from_millis(250));
-}
-
 /// The screen once it has stopped changing (two shots 1 s apart agree in
 /// the middle; up to 20 s).
 fn settled(display: &str, dir: &Path, name: &str) -> image::RgbImage {
@@ -86,7 +35,7 @@ fn settled(display: &str, dir: &Path, name: &str) -> image::RgbImage {
     for k in 1..20 {
         sleep(Duration::from_millis(1000));
         let now = shot(display, &dir.join(format!("{name}-{k}.png")));
-        if centre_difference(&last, &now) == 0 {
+        if centre_difference(&last, &now, 0) == 0 {
             return now;
         }
         last = now;
@@ -106,7 +55,7 @@ fn toggles(
 ) {
     taps(display, key, 1);
     let on = settled(display, dir, &format!("{key}-on"));
-    let changed = centre_difference(before, &on);
+    let changed = centre_difference(before, &on, 0);
     eprintln!("{key}: {changed} pixels changed in the middle of the screen");
     assert!(
         changed > 20,
@@ -115,7 +64,7 @@ fn toggles(
     );
     taps(display, key, 1);
     let off = settled(display, dir, &format!("{key}-off"));
-    let left = centre_difference(before, &off);
+    let left = centre_difference(before, &off, 0);
     assert_eq!(left, 0, "{key} twice left {left} pixels changed\n{}", log());
 }
 
@@ -151,7 +100,7 @@ fn each_view_key_changes_the_picture_and_toggling_back_restores_it() {
             toggles(&d, &dir, "n", &pocket, &text);
             taps(&d, p, 1);
             let back = settled(&d, &dir, "pocket-off");
-            assert_eq!(centre_difference(&crystal, &back), 0, "{p} twice");
+            assert_eq!(centre_difference(&crystal, &back, 0), 0, "{p} twice");
         }
         None => toggles(&d, &dir, "n", &crystal, &text),
     }
@@ -168,7 +117,7 @@ fn each_view_key_changes_the_picture_and_toggling_back_restores_it() {
     }
     let moved = settled(&d, &dir, "moved");
     assert!(
-        centre_difference(&crystal, &moved) > 200,
+        centre_difference(&crystal, &moved, 0) > 200,
         "the drug did not move\n{}",
         text()
     );
@@ -179,18 +128,18 @@ fn each_view_key_changes_the_picture_and_toggling_back_restores_it() {
     // back to 10 Å exactly.
     taps(&d, "4", 1);
     let slab = settled(&d, &dir, "slab");
-    assert!(centre_difference(&moved, &slab) > 200);
+    assert!(centre_difference(&moved, &slab, 0) > 200);
     taps(&d, "5", 1);
     let thin = settled(&d, &dir, "slab-thin");
     assert!(
-        centre_difference(&slab, &thin) > 50,
+        centre_difference(&slab, &thin, 0) > 50,
         "5 did not thin the slab\n{}",
         text()
     );
     taps(&d, "6", 1);
     let back = settled(&d, &dir, "slab-back");
     assert_eq!(
-        centre_difference(&slab, &back),
+        centre_difference(&slab, &back, 0),
         0,
         "5 then 6 is not the same slab"
     );
@@ -201,21 +150,21 @@ fn each_view_key_changes_the_picture_and_toggling_back_restores_it() {
     // takes the turn back to the picture before it.
     taps(&d, "4", 1);
     let plain = settled(&d, &dir, "slab-off");
-    assert_eq!(centre_difference(&moved, &plain), 0, "4 twice");
+    assert_eq!(centre_difference(&moved, &plain, 0), 0, "4 twice");
     taps(&d, "Tab", 1);
     let bond = settled(&d, &dir, "bond");
-    let shown = centre_difference(&plain, &bond);
+    let shown = centre_difference(&plain, &bond, 0);
     eprintln!("Tab: {shown} pixels changed in the middle of the screen");
     assert!(shown > 20, "Tab drew no bond\n{}", text());
     taps(&d, "shift+apostrophe", 1);
     let turned = settled(&d, &dir, "turned");
-    let turn = centre_difference(&bond, &turned);
+    let turn = centre_difference(&bond, &turned, 0);
     eprintln!("Shift+': {turn} pixels changed in the middle of the screen");
     assert!(turn > 20, "Shift+' turned nothing\n{}", text());
     taps(&d, "ctrl+z", 1);
     let undone = settled(&d, &dir, "undone");
     assert_eq!(
-        centre_difference(&bond, &undone),
+        centre_difference(&bond, &undone, 0),
         0,
         "Ctrl+Z did not take the turn back\n{}",
         text()

@@ -267,3 +267,78 @@ pub fn finish(child: &mut Kill, log: &std::path::Path, secs: u64, what: &str) ->
     }
     (out, text)
 }
+
+/// A screenshot of the whole screen (ImageMagick's `import`), as RGB pixels.
+pub fn shot(display: &str, path: &std::path::Path) -> image::RgbImage {
+    let ok = Command::new("import")
+        .args(["-window", "root", path.to_str().expect("path")])
+        .env("DISPLAY", display)
+        .status()
+        .expect("import");
+    assert!(ok.success(), "screenshot failed");
+    image::open(path).expect("read screenshot").to_rgb8()
+}
+
+/// Pixels in the middle of the screen (the scene; the HUD's bars and
+/// boxes, whose values change, lie outside it) where a channel of `a` and
+/// `b` differs by more than `tolerance`.
+pub fn centre_difference(a: &image::RgbImage, b: &image::RgbImage, tolerance: u8) -> usize {
+    let (w, h) = a.dimensions();
+    let mut n = 0;
+    for y in h / 4..3 * h / 4 {
+        for x in w / 4..3 * w / 4 {
+            let (p, q) = (a.get_pixel(x, y).0, b.get_pixel(x, y).0);
+            if p.iter().zip(q).any(|(u, v)| u.abs_diff(v) > tolerance) {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+/// CPU seconds (user + system) process `pid` has used.
+pub fn cpu_seconds(pid: u32) -> f64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).expect("/proc stat");
+    // Fields after the command's closing parenthesis; utime and stime are
+    // the 14th and 15th of the whole line.
+    let rest = &stat[stat.rfind(')').expect("stat") + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f[11].parse::<f64>().expect("utime") + f[12].parse::<f64>().expect("stime");
+    let hz = Command::new("getconf")
+        .arg("CLK_TCK")
+        .output()
+        .ok()
+        .and_then(|o| {
+            String::from_utf8_lossy(&o.stdout)
+                .trim()
+                .parse::<f64>()
+                .ok()
+        })
+        .unwrap_or(100.0);
+    ticks / hz
+}
+
+/// Presses `key` (with `shift`) for 100 ms, then waits 250 ms.
+pub fn tap(display: &str, key: &str, shift: bool) {
+    if shift {
+        xdotool(display, &["keydown", "shift"]);
+    }
+    xdotool(display, &["keydown", key]);
+    sleep(Duration::from_millis(100));
+    xdotool(display, &["keyup", key]);
+    if shift {
+        xdotool(display, &["keyup", "shift"]);
+    }
+    sleep(Duration::from_millis(250));
+}
+
+/// Waits until `f` holds (checked every 0.5 s, up to 20 s).
+pub fn eventually(mut f: impl FnMut() -> bool) -> bool {
+    for _ in 0..40 {
+        if f() {
+            return true;
+        }
+        sleep(Duration::from_millis(500));
+    }
+    false
+}
