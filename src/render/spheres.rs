@@ -83,6 +83,33 @@ pub fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Textu
         .create_view(&wgpu::TextureViewDescriptor::default())
 }
 
+/// Writes `items[i]` for every index in `dirty` (sorted, without repeats)
+/// to `buffer`, one write per contiguous run of indices; returns the bytes
+/// written.
+fn write_runs<T: bytemuck::Pod>(
+    queue: &wgpu::Queue,
+    buffer: &wgpu::Buffer,
+    items: &[T],
+    dirty: &[usize],
+) -> u64 {
+    let mut bytes = 0;
+    let mut k = 0;
+    while k < dirty.len() {
+        let start = dirty[k];
+        let mut end = start;
+        while k + 1 < dirty.len() && dirty[k + 1] == end + 1 {
+            k += 1;
+            end += 1;
+        }
+        let run = &items[start..=end];
+        let offset = (start * std::mem::size_of::<T>()) as u64;
+        queue.write_buffer(buffer, offset, bytemuck::cast_slice(run));
+        bytes += std::mem::size_of_val(run) as u64;
+        k += 1;
+    }
+    bytes
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct GpuAtom {
@@ -404,23 +431,8 @@ impl SphereRenderer {
         dirty.sort_unstable();
         dirty.dedup();
         // Contiguous runs of dirty words go up in one write each.
-        let mut k = 0;
-        while k < dirty.len() {
-            let start = dirty[k];
-            let mut end = start;
-            while k + 1 < dirty.len() && dirty[k + 1] == end + 1 {
-                k += 1;
-                end += 1;
-            }
-            let words = &self.words[start..=end];
-            queue.write_buffer(
-                &self.hl_buf,
-                (start * 4) as u64,
-                bytemuck::cast_slice(words),
-            );
-            self.stats.highlight_bytes += (words.len() * 4) as u64;
-            k += 1;
-        }
+        let bytes = write_runs(queue, &self.hl_buf, &self.words, &dirty);
+        self.stats.highlight_bytes += bytes;
     }
 
     /// Recolours atoms: `(molecule, atom, colour)`, `None` for the
@@ -553,27 +565,9 @@ impl SphereRenderer {
     /// Rewrites the atoms `dirty` (any order, repeats allowed) in
     /// contiguous runs; returns how many, and the bytes written.
     fn upload_atoms(&mut self, queue: &wgpu::Queue, mut dirty: Vec<usize>) -> (usize, u64) {
-        let mut bytes = 0;
         dirty.sort_unstable();
         dirty.dedup();
-        let size = std::mem::size_of::<GpuAtom>();
-        let mut k = 0;
-        while k < dirty.len() {
-            let start = dirty[k];
-            let mut end = start;
-            while k + 1 < dirty.len() && dirty[k + 1] == end + 1 {
-                k += 1;
-                end += 1;
-            }
-            let run = &self.atoms[start..=end];
-            queue.write_buffer(
-                &self.atom_buf,
-                (start * size) as u64,
-                bytemuck::cast_slice(run),
-            );
-            bytes += std::mem::size_of_val(run) as u64;
-            k += 1;
-        }
+        let bytes = write_runs(queue, &self.atom_buf, &self.atoms, &dirty);
         (dirty.len(), bytes)
     }
 
