@@ -269,6 +269,7 @@ pub fn finish(child: &mut Kill, log: &std::path::Path, secs: u64, what: &str) ->
 }
 
 /// A screenshot of the whole screen (ImageMagick's `import`), as RGB pixels.
+#[cfg(feature = "app")]
 pub fn shot(display: &str, path: &std::path::Path) -> image::RgbImage {
     let ok = Command::new("import")
         .args(["-window", "root", path.to_str().expect("path")])
@@ -282,6 +283,7 @@ pub fn shot(display: &str, path: &std::path::Path) -> image::RgbImage {
 /// Pixels in the middle of the screen (the scene; the HUD's bars and
 /// boxes, whose values change, lie outside it) where a channel of `a` and
 /// `b` differs by more than `tolerance`.
+#[cfg(feature = "app")]
 pub fn centre_difference(a: &image::RgbImage, b: &image::RgbImage, tolerance: u8) -> usize {
     let (w, h) = a.dimensions();
     let mut n = 0;
