@@ -15,6 +15,7 @@ use std::collections::HashMap;
 
 use bump::chem::{XsType, torsions::pairs_beyond_three_bonds};
 use bump::model::{self, BondOrder, LigandSpec, LoadOptions, Molecule};
+use bump_testkit::vina_reference::COMPLEXES;
 use glam::DVec3;
 use serde_json::Value;
 
@@ -219,29 +220,6 @@ fn xyz(row: &[Value], at: usize) -> DVec3 {
         row[at + 2].as_f64().expect("z"),
     )
 }
-
-/// The shared complexes of the reference: id, receptor file, ligand
-/// residue (in the receptor file) and ligand SDF.
-const COMPLEXES: &[(&str, &str, &str, Option<&str>)] = &[
-    (
-        "6xg5_TOP",
-        "6xg5_tmp_prepared.pdb",
-        "TOP",
-        Some("trimethoprim_top_6xg5pose.sdf"),
-    ),
-    ("3ptb_BEN", "3ptb.pdb", "BEN", Some("benzamidine_3ptb.sdf")),
-    (
-        "1s3v_TQD",
-        "1s3v_protein.pdb",
-        "",
-        Some("1s3v_ligand_tqd.sdf"),
-    ),
-    ("4dfr_MTX", "4dfr.pdb", "MTX:A", None),
-    ("1u72_MTX", "1u72.pdb", "MTX:A", None),
-    ("3nzd_D2Q", "3nzd.cif", "D2Q:A", None),
-    ("1hvr_XK2", "1hvr.pdb", "XK2:A", None),
-    ("1rx1_NAP", "1rx1.pdb", "NAP:A", None),
-];
 
 /// Receptor atoms whose type may differ from the reference: Open Babel's
 /// histidine protonation (see the module docs).

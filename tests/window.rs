@@ -99,13 +99,7 @@ struct Seen {
 
 /// Takes a screenshot of `display` into `shot` and reads it.
 fn look(display: &str, shot: &std::path::Path) -> Seen {
-    let ok = Command::new("import")
-        .args(["-window", "root", shot.to_str().expect("path")])
-        .env("DISPLAY", display)
-        .status()
-        .expect("import");
-    assert!(ok.success(), "screenshot failed");
-    let img = image::open(shot).expect("read screenshot").to_rgba8();
+    let img = common::x11::shot(display, shot);
     let (w, h) = img.dimensions();
     let px = |x: u32, y: u32| img.get_pixel(x, y).0;
     let panel = |y0: u32| {
@@ -121,7 +115,7 @@ fn look(display: &str, shot: &std::path::Path) -> Seen {
     let magenta = (0..w)
         .flat_map(|x| (30..h - 30).map(move |y| (x, y)))
         .filter(|&(x, y)| {
-            let [r, g, b, _] = px(x, y).map(i32::from);
+            let [r, g, b] = px(x, y).map(i32::from);
             r > 140 && b > 120 && g < r - 60
         })
         .count();

@@ -11,11 +11,13 @@
 //! torques ([`Ligand::gradient`]).
 
 use glam::{DMat3, DVec3};
+use wide::f32x4;
 
 use super::function::{CUTOFF2, curl, curl_with_slope};
 use super::ligand::{Conformation, Gradient, Ligand};
 use super::table::{Table, index, smooth_at};
 use crate::chem::XsType;
+use crate::motion::Pose;
 
 /// An evaluator of the intermolecular energy of single drug atoms.
 pub trait Field {
@@ -29,6 +31,26 @@ pub trait Field {
     /// A continuous version of [`Self::atom_energy`] and its gradient with
     /// respect to `x`.
     fn atom_energy_gradient(&self, t: XsType, x: DVec3) -> (f64, DVec3);
+
+    /// The intermolecular energy (the curl applied per atom) of `drug` at
+    /// `pose`, with `∂E/∂T` and `∂E/∂ω` about the pose's centre: what
+    /// [`RigidDrug::energy_gradient`] gives. An evaluator with a faster way
+    /// to take many atoms through one transform provides it.
+    #[inline]
+    fn rigid_energy_gradient(&self, drug: &RigidDrug, pose: &Pose) -> (f64, DVec3, DVec3) {
+        let m = DMat3::from_quat(pose.rotation);
+        let (mut e, mut force, mut moment) = (0.0, DVec3::ZERO, DVec3::ZERO);
+        for (y, &t) in drug.local().iter().zip(drug.xs()) {
+            let r = m * *y;
+            let (v, g) = self.atom_energy_gradient(t, r + pose.translation);
+            let (v, s) = curl_with_slope(v);
+            let g = g * s;
+            e += v;
+            force += g;
+            moment += r.cross(g);
+        }
+        (e, force, moment)
+    }
 }
 
 /// Working storage for evaluations, kept between calls so that none
@@ -140,6 +162,8 @@ pub struct RigidDrug {
     local: Vec<DVec3>,
     /// Their types.
     xs: Vec<XsType>,
+    /// `local` in f32, four atoms a lane group.
+    lanes: Vec<[f32x4; 3]>,
     /// Vina's intramolecular energy at the held conformation.
     pub intra: f64,
 }
@@ -148,20 +172,49 @@ impl RigidDrug {
     /// `lig` held at `torsions` (radians from the loaded angles).
     pub fn new<F: Field + ?Sized>(field: &F, lig: &Ligand, torsions: &[f64]) -> Self {
         let conf = Conformation {
-            pose: crate::motion::Pose::IDENTITY,
+            pose: Pose::IDENTITY,
             torsions: torsions.to_vec(),
         };
         let mut ws = Workspace::default();
         let intra = energies(field, lig, &conf, &mut ws).intra;
+        let local: Vec<DVec3> = lig
+            .scored
+            .iter()
+            .map(|&i| ws.positions[i as usize])
+            .collect();
+        let lanes = local
+            .chunks(4)
+            .map(|c| {
+                let mut v = [[0.0f32; 4]; 3];
+                for (l, y) in c.iter().enumerate() {
+                    let y = y.as_vec3();
+                    (v[0][l], v[1][l], v[2][l]) = (y.x, y.y, y.z);
+                }
+                v.map(f32x4::from)
+            })
+            .collect();
         Self {
-            local: lig
-                .scored
-                .iter()
-                .map(|&i| ws.positions[i as usize])
-                .collect(),
+            local,
             xs: lig.xs.clone(),
+            lanes,
             intra,
         }
+    }
+
+    /// The scored atoms' positions in the drug's frame.
+    pub fn local(&self) -> &[DVec3] {
+        &self.local
+    }
+
+    /// The scored atoms' types.
+    pub fn xs(&self) -> &[XsType] {
+        &self.xs
+    }
+
+    /// [`Self::local`] in f32, per group of four atoms (the last padded
+    /// with zeros) per axis: for evaluators that move four atoms at once.
+    pub fn lanes(&self) -> &[[f32x4; 3]] {
+        &self.lanes
     }
 
     /// The intermolecular energy at `pose` (after the curl) with `∂E/∂T`
@@ -170,19 +223,8 @@ impl RigidDrug {
     pub fn energy_gradient<F: Field + ?Sized>(
         &self,
         field: &F,
-        pose: &crate::motion::Pose,
+        pose: &Pose,
     ) -> (f64, DVec3, DVec3) {
-        let m = DMat3::from_quat(pose.rotation);
-        let (mut e, mut force, mut moment) = (0.0, DVec3::ZERO, DVec3::ZERO);
-        for (y, &t) in self.local.iter().zip(&self.xs) {
-            let r = m * *y;
-            let (v, g) = field.atom_energy_gradient(t, r + pose.translation);
-            let (v, s) = curl_with_slope(v);
-            let g = g * s;
-            e += v;
-            force += g;
-            moment += r.cross(g);
-        }
-        (e, force, moment)
+        field.rigid_energy_gradient(self, pose)
     }
 }

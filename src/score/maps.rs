@@ -19,25 +19,36 @@
 //! type; on as many threads as the machine has, each owning a slab of
 //! z-planes;
 //! [`MapsJob`] runs the whole build on a background thread.
+//!
+//! Each type's map keeps, per point, its value and those of the next point
+//! along x, and of the two above along y ([`Quads`]): a cell's eight
+//! corners are two reads. The drug held rigid
+//! ([`MapField`]'s [`Field::rigid_energy_gradient`]) is moved into lattice
+//! units with one transform and interpolated four atoms at a time in f32
+//! lanes ([`Lattice::interpolate4`]), which the map values' own f32
+//! precision allows.
 
 use std::sync::Arc;
 use std::thread::JoinHandle;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
+use wide::{f32x4, i32x4};
 
 use super::exact::Exact;
-use super::field::Field;
-use super::function::{CUTOFF, CUTOFF2, Scoring};
+use super::field::{Field, RigidDrug};
+use super::function::{CUTOFF, CUTOFF2, Scoring, curl_with_slope};
 use super::receptor::Receptor;
 use super::table::{Row, STRIDE, Table, index};
 use crate::chem::XsType;
+use crate::motion::Pose;
 
 /// Vina's default lattice spacing, Å.
 pub const DEFAULT_SPACING: f64 = 0.375;
 
-/// Largest number of lattice points a map may have (about 80 MB of f32 per
-/// type at most): a box from a typo must not exhaust memory.
-pub const MAX_POINTS: usize = 20_000_000;
+/// Largest number of lattice points a map may have (80 MB per type at most,
+/// as the maps keep four values a point): a box from a typo must not
+/// exhaust memory. A cube of 64 Å at Vina's 0.375 Å spacing fits.
+pub const MAX_POINTS: usize = 5_000_000;
 
 /// A box for maps: centre, edge lengths and lattice spacing (Å).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -114,6 +125,10 @@ pub struct Lattice {
     pub spacing: f64,
     /// Points per axis.
     pub points: [usize; 3],
+    /// The last point along each axis, in lattice units (`points − 1`).
+    top: DVec3,
+    /// The last cell along each axis (`points − 2`, at least 0).
+    last_cell: [i32; 3],
 }
 
 impl Lattice {
@@ -153,10 +168,14 @@ impl Lattice {
             });
         }
         let half = DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64) * (bx.spacing / 2.0);
+        // At most `limit` + 1 points per axis: these fit an i32.
+        let last = |n: usize| n as i32 - 1;
         Ok(Self {
             origin: bx.centre - half,
             spacing: bx.spacing,
             points,
+            top: DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64),
+            last_cell: [last(n[0]), last(n[1]), last(n[2])],
         })
     }
 
@@ -185,40 +204,183 @@ impl Lattice {
     #[inline]
     pub fn interpolate(&self, values: &[f32], x: DVec3) -> Option<(f64, DVec3)> {
         let inv = 1.0 / self.spacing;
-        let g = (x - self.origin) * inv;
-        let [nx, ny, nz] = self.points;
-        let top = DVec3::new((nx - 1) as f64, (ny - 1) as f64, (nz - 1) as f64);
+        let (base, f) = self.locate((x - self.origin) * inv)?;
+        let (sy, sz) = (self.points[0], self.points[0] * self.points[1]);
+        // Each row's two corners in one read (one bounds check).
+        let pair = |o: usize| -> Option<[f32; 2]> { values.get(o..o + 2)?.try_into().ok() };
+        let (a, b) = (pair(base)?, pair(base + sy)?);
+        let (c, d) = (pair(base + sz)?, pair(base + sz + sy)?);
+        let (e, g) = trilinear([a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]], f);
+        Some((e, g * inv))
+    }
+
+    /// The cell holding `g` (a position in lattice units, `(x − origin) /
+    /// spacing`): its first point's index and `g`'s place in it; `None`
+    /// outside the lattice.
+    #[inline]
+    fn locate(&self, g: DVec3) -> Option<(usize, DVec3)> {
+        let top = self.top;
         // Comparisons with NaN are false: a NaN position is "outside".
         if !(g.x >= 0.0 && g.y >= 0.0 && g.z >= 0.0 && g.x <= top.x && g.y <= top.y && g.z <= top.z)
         {
             return None;
         }
-        // In range (tested above), so the cheap i32 conversions are exact.
-        let i = (g.x as i32 as usize).min(nx - 2);
-        let j = (g.y as i32 as usize).min(ny - 2);
-        let k = (g.z as i32 as usize).min(nz - 2);
-        let (fx, fy, fz) = (g.x - i as f64, g.y - j as f64, g.z - k as f64);
-        let base = (k * ny + j) * nx + i;
-        let (sy, sz) = (nx, nx * ny);
-        // One bounds check for the eight corners.
-        let cell = &values[base..base + sz + sy + 2];
-        let v = |o: usize| f64::from(cell[o]);
-        let (c000, c100, c010, c110) = (v(0), v(1), v(sy), v(sy + 1));
-        let (c001, c101, c011, c111) = (v(sz), v(sz + 1), v(sz + sy), v(sz + sy + 1));
-        // Along x, then y, then z.
-        let c00 = c000 + fx * (c100 - c000);
-        let c10 = c010 + fx * (c110 - c010);
-        let c01 = c001 + fx * (c101 - c001);
-        let c11 = c011 + fx * (c111 - c011);
-        let c0 = c00 + fy * (c10 - c00);
-        let c1 = c01 + fy * (c11 - c01);
-        let e = c0 + fz * (c1 - c0);
-        let dx0 = (c100 - c000) + fy * ((c110 - c010) - (c100 - c000));
-        let dx1 = (c101 - c001) + fy * ((c111 - c011) - (c101 - c001));
-        let dx = dx0 + fz * (dx1 - dx0);
-        let dy = (c10 - c00) + fz * ((c11 - c01) - (c10 - c00));
+        // In range (tested above), so the cheap i32 conversions are exact;
+        // the last point along an axis belongs to the cell before it.
+        let [li, lj, lk] = self.last_cell;
+        let (i, j, k) = (
+            (g.x as i32).min(li),
+            (g.y as i32).min(lj),
+            (g.z as i32).min(lk),
+        );
+        let f = g - DVec3::new(f64::from(i), f64::from(j), f64::from(k));
+        let [nx, ny, _] = self.points;
+        Some(((k as usize * ny + j as usize) * nx + i as usize, f))
+    }
+}
+
+/// Trilinear interpolation of a cell's corners `c` (x fastest, then y,
+/// then z) at `f` (the place in the cell, each in [0, 1]) and its gradient
+/// in lattice units.
+#[inline]
+fn trilinear(c: [f32; 8], f: DVec3) -> (f64, DVec3) {
+    let c = c.map(f64::from);
+    let [c000, c100, c010, c110, c001, c101, c011, c111] = c;
+    // Along x, then y, then z.
+    let (a0, a1, a2, a3) = (c100 - c000, c110 - c010, c101 - c001, c111 - c011);
+    let c00 = c000 + f.x * a0;
+    let c10 = c010 + f.x * a1;
+    let c01 = c001 + f.x * a2;
+    let c11 = c011 + f.x * a3;
+    let (b0, b1) = (c10 - c00, c11 - c01);
+    let c0 = c00 + f.y * b0;
+    let c1 = c01 + f.y * b1;
+    let dz = c1 - c0;
+    let e = c0 + f.z * dz;
+    let dx0 = a0 + f.y * (a1 - a0);
+    let dx1 = a2 + f.y * (a3 - a2);
+    let dx = dx0 + f.z * (dx1 - dx0);
+    let dy = b0 + f.z * (b1 - b0);
+    (e, DVec3::new(dx, dy, dz))
+}
+
+/// A map as each point's square of values: its own, the next along x, and
+/// the two above those along y. A cell's eight corners are then two reads,
+/// its first point's square and the one a plane above.
+pub type Quads = [[f32; 4]];
+
+/// `values` (one per point of `lattice`, x fastest) as [`Quads`]; values
+/// beyond the lattice's edges, which no cell reads, are zero.
+fn quads(lattice: &Lattice, values: impl Fn(usize) -> f32) -> Vec<[f32; 4]> {
+    let [nx, ny, nz] = lattice.points;
+    let mut out = vec![[0.0f32; 4]; lattice.len()];
+    for z in 0..nz {
+        for y in 0..ny {
+            let row = (z * ny + y) * nx;
+            let up = y + 1 < ny;
+            for x in 0..nx {
+                let p = row + x;
+                let right = x + 1 < nx;
+                let v = |ok: bool, o: usize| if ok { values(o) } else { 0.0 };
+                out[p] = [
+                    values(p),
+                    v(right, p + 1),
+                    v(up, p + nx),
+                    v(up && right, p + nx + 1),
+                ];
+            }
+        }
+    }
+    out
+}
+
+impl Lattice {
+    /// Interpolation of the map `quads` at `g` (lattice units) with its
+    /// gradient in lattice units; `None` outside the lattice.
+    #[inline]
+    pub fn interpolate_quads(&self, quads: &Quads, g: DVec3) -> Option<(f64, DVec3)> {
+        let (base, f) = self.locate(g)?;
+        let sz = self.points[0] * self.points[1];
+        let (lo, hi) = (quads.get(base)?, quads.get(base + sz)?);
+        Some(trilinear(
+            [lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]],
+            f,
+        ))
+    }
+}
+
+/// Four atoms' interpolated energies and gradients, one per lane, in
+/// lattice units ([`Lattice::interpolate4`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Lanes {
+    /// Bit `l` set: lane `l` is outside the lattice or has no map; its
+    /// values are zero.
+    pub missed: u32,
+    /// Energies.
+    pub energy: f32x4,
+    /// Gradients, per axis.
+    pub gradient: [f32x4; 3],
+}
+
+impl Lattice {
+    /// [`Self::interpolate_quads`] for four points at once (lanes of `g`,
+    /// in lattice units), lane `l` reading `maps[l]` (an empty map for a
+    /// lane that has none), in f32: the map values are f32 already, so the
+    /// interpolation loses nothing that matters at their accuracy.
+    #[inline]
+    pub fn interpolate4(&self, maps: [&Quads; 4], g: [f32x4; 3]) -> Lanes {
+        let zero = f32x4::ZERO;
+        let top = self.top.as_vec3();
+        let inside = |v: f32x4, t: f32| v.simd_ge(zero) & v.simd_le(f32x4::splat(t));
+        let ok = inside(g[0], top.x) & inside(g[1], top.y) & inside(g[2], top.z);
+        // Lanes outside (or NaN) read the first cell instead, and are
+        // reported as missed.
+        let g = g.map(|v| ok.select(v, zero));
+        let [li, lj, lk] = self.last_cell;
+        let cell = |v: f32x4, last: i32| v.fast_trunc_int().min(i32x4::splat(last));
+        let (i, j, k) = (cell(g[0], li), cell(g[1], lj), cell(g[2], lk));
+        let f = [
+            g[0] - f32x4::from_i32x4(i),
+            g[1] - f32x4::from_i32x4(j),
+            g[2] - f32x4::from_i32x4(k),
+        ];
+        let [nx, ny, _] = self.points;
+        let sz = nx * ny;
+        let (i, j, k) = (i.to_array(), j.to_array(), k.to_array());
+        let mut missed = (!ok.to_bitmask()) & 0b1111;
+        // Each lane's cell: its lower square and the one a plane above.
+        let (mut lo, mut hi) = ([zero; 4], [zero; 4]);
+        for l in 0..4 {
+            let base = (k[l] as usize * ny + j[l] as usize) * nx + i[l] as usize;
+            match (maps[l].get(base), maps[l].get(base + sz)) {
+                (Some(a), Some(b)) => (lo[l], hi[l]) = (f32x4::from(*a), f32x4::from(*b)),
+                _ => missed |= 1 << l,
+            }
+        }
+        // Lanes become corners: c000 holds the four lanes' first corners.
+        let [c000, c100, c010, c110] = f32x4::transpose(lo);
+        let [c001, c101, c011, c111] = f32x4::transpose(hi);
+        let [fx, fy, fz] = f;
+        let (a0, a1, a2, a3) = (c100 - c000, c110 - c010, c101 - c001, c111 - c011);
+        let c00 = c000 + fx * a0;
+        let c10 = c010 + fx * a1;
+        let c01 = c001 + fx * a2;
+        let c11 = c011 + fx * a3;
+        let (b0, b1) = (c10 - c00, c11 - c01);
+        let c0 = c00 + fy * b0;
+        let c1 = c01 + fy * b1;
         let dz = c1 - c0;
-        Some((e, DVec3::new(dx, dy, dz) * inv))
+        let e = c0 + fz * dz;
+        let dx0 = a0 + fy * (a1 - a0);
+        let dx1 = a2 + fy * (a3 - a2);
+        let dx = dx0 + fz * (dx1 - dx0);
+        let dy = b0 + fz * (b1 - b0);
+        // Lanes outside read the first cell: zero them.
+        Lanes {
+            missed,
+            energy: ok.select(e, zero),
+            gradient: [dx, dy, dz].map(|d| ok.select(d, zero)),
+        }
     }
 }
 
@@ -230,8 +392,8 @@ pub struct Maps {
     types: Vec<XsType>,
     /// Per type index, its map's slot (`u8::MAX`: none).
     slot: [u8; 19],
-    /// One map per slot, each `lattice.len()` values, x fastest.
-    values: Vec<Vec<f32>>,
+    /// One map per slot, each `lattice.len()` points, x fastest.
+    quads: Vec<Vec<[f32; 4]>>,
 }
 
 /// Adds a receptor atom at `p` to the interleaved maps' z-planes `z0..z1`
@@ -400,15 +562,15 @@ impl Maps {
             16 => build_interleaved::<16>(receptor, l, n, &tables, threads),
             _ => build_interleaved::<20>(receptor, l, n, &tables, threads),
         };
-        let values: Vec<Vec<f32>> = (0..kinds.len())
-            .map(|s| inter.iter().skip(s).step_by(w).copied().collect())
+        let quads: Vec<Vec<[f32; 4]>> = (0..kinds.len())
+            .map(|s| quads(&lattice, |p| inter[p * w + s]))
             .collect();
         Ok(Self {
             scoring,
             lattice,
             types: kinds,
             slot,
-            values,
+            quads,
         })
     }
 
@@ -438,8 +600,12 @@ impl Maps {
     #[inline]
     pub fn sample(&self, t: XsType, x: DVec3) -> Option<(f64, DVec3)> {
         let s = self.slot[t.index()];
-        let values = self.values.get(usize::from(s))?;
-        self.lattice.interpolate(values, x)
+        let quads = self.quads.get(usize::from(s))?;
+        let inv = 1.0 / self.lattice.spacing;
+        let (e, g) = self
+            .lattice
+            .interpolate_quads(quads, (x - self.lattice.origin) * inv)?;
+        Some((e, g * inv))
     }
 }
 
@@ -477,6 +643,87 @@ impl Field for MapField<'_> {
             Some(v) => v,
             None => self.exact.atom_energy_gradient(t, x),
         }
+    }
+
+    /// Takes the atoms into lattice units with one transform (the spacing
+    /// folded into the rotation and translation), four at a time
+    /// ([`Lattice::interpolate4`]), and sums the gradient in those units,
+    /// scaling once at the end: the moment about the pose's centre is
+    /// `Σ (gᵢ − g_T) × ∇ᵢ`, in which the spacing cancels. Atoms the maps
+    /// miss are scored exactly.
+    fn rigid_energy_gradient(&self, drug: &RigidDrug, pose: &Pose) -> (f64, DVec3, DVec3) {
+        let l = &self.maps.lattice;
+        let inv = 1.0 / l.spacing;
+        let m = DMat3::from_quat(pose.rotation) * inv;
+        let gt = (pose.translation - l.origin) * inv;
+        let m4 = m.to_cols_array().map(|v| f32x4::splat(v as f32));
+        let gt4 = gt.to_array().map(|v| f32x4::splat(v as f32));
+        let empty: &Quads = &[];
+        let zero = f32x4::ZERO;
+        let (mut e4, mut s4, mut t4) = (zero, [zero; 3], [zero; 3]);
+        let (mut e, mut sum, mut moment) = (0.0, DVec3::ZERO, DVec3::ZERO);
+        let (local, xs) = (drug.local(), drug.xs());
+        for (c, y) in drug.lanes().iter().enumerate() {
+            let ts = xs.get(4 * c..).unwrap_or(&[]);
+            let n = ts.len().min(4);
+            let mut maps = [empty; 4];
+            for (map, &t) in maps.iter_mut().zip(ts) {
+                *map = self.map_of(t);
+            }
+            // Columns: m4[0..3] is the first.
+            let g = [0, 1, 2].map(|a| m4[a] * y[0] + m4[3 + a] * y[1] + m4[6 + a] * y[2] + gt4[a]);
+            let lanes = l.interpolate4(maps, g);
+            // The curl, per lane: E·1000/(1000 + E) above zero.
+            let v = lanes.energy;
+            let up = v.simd_gt(zero);
+            let d = if up.any() {
+                let t = f32x4::splat(1000.0) / (f32x4::splat(1000.0) + up.select(v, zero));
+                e4 += up.select(v * t, v);
+                let slope = up.select(t * t, f32x4::ONE);
+                lanes.gradient.map(|c| c * slope)
+            } else {
+                e4 += v;
+                lanes.gradient
+            };
+            for a in 0..3 {
+                s4[a] += d[a];
+            }
+            t4[0] += g[1] * d[2] - g[2] * d[1];
+            t4[1] += g[2] * d[0] - g[0] * d[2];
+            t4[2] += g[0] * d[1] - g[1] * d[0];
+            // Lanes the maps miss (their values are zero): exactly.
+            let mut missed = lanes.missed & ((1 << n) - 1);
+            while missed != 0 {
+                let k = missed.trailing_zeros() as usize;
+                missed &= missed - 1;
+                let gd = m * local[4 * c + k] + gt;
+                let (v, d) = self
+                    .exact
+                    .atom_energy_gradient(ts[k], l.origin + gd * l.spacing);
+                let (v, s) = curl_with_slope(v);
+                let d = d * (s * l.spacing);
+                e += v;
+                sum += d;
+                moment += gd.cross(d);
+            }
+        }
+        let total = |v: f32x4| f64::from(v.reduce_add());
+        e += total(e4);
+        sum += DVec3::new(total(s4[0]), total(s4[1]), total(s4[2]));
+        moment += DVec3::new(total(t4[0]), total(t4[1]), total(t4[2]));
+        (e, sum * inv, moment - gt.cross(sum))
+    }
+}
+
+impl MapField<'_> {
+    /// The map of type `t` (empty: none).
+    #[inline]
+    fn map_of(&self, t: XsType) -> &Quads {
+        let s = self.maps.slot[t.index()];
+        self.maps
+            .quads
+            .get(usize::from(s))
+            .map_or(&[], Vec::as_slice)
     }
 }
 
@@ -541,6 +788,7 @@ mod tests {
 
     use super::*;
     use crate::rng::Rng;
+    use crate::score::Ligand;
 
     fn receptor(seed: u64, n: usize) -> Receptor {
         let mut rng = Rng(seed);
@@ -601,6 +849,99 @@ mod tests {
         assert!(maps.sample(XsType::O_A, DVec3::splat(4.2)).is_none());
         assert!(maps.sample(XsType::C_H, DVec3::ZERO).is_none());
         assert!(maps.sample(XsType::O_A, DVec3::NAN).is_none());
+    }
+
+    /// The per-atom path of [`Field`] over the same maps: what the
+    /// four-lane rigid path must agree with.
+    struct PerAtom<'a>(MapField<'a>);
+
+    impl Field for PerAtom<'_> {
+        fn table(&self) -> &'static Table {
+            self.0.table()
+        }
+        fn atom_energy(&self, t: XsType, x: DVec3) -> f64 {
+            self.0.atom_energy(t, x)
+        }
+        fn atom_energy_gradient(&self, t: XsType, x: DVec3) -> (f64, DVec3) {
+            self.0.atom_energy_gradient(t, x)
+        }
+    }
+
+    /// A rigid drug of `n` atoms of `types` in turn, spread over a few Å.
+    fn rigid_drug(rng: &mut Rng, n: usize, types: &[XsType]) -> Ligand {
+        let local: Vec<DVec3> = (0..n).map(|_| rng.in_box(DVec3::splat(3.0))).collect();
+        let xs: Vec<Option<XsType>> = (0..n).map(|i| Some(types[i % types.len()])).collect();
+        let fragments = vec![crate::score::Fragment {
+            parent: None,
+            bond: None,
+            atoms: (0..n as u32).collect(),
+        }];
+        Ligand::from_parts(local, fragments, &xs, vec![0.0; n], &[], 0.0).unwrap()
+    }
+
+    #[test]
+    fn four_lane_rigid_path_agrees_with_the_per_atom_path() {
+        let r = receptor(7, 500);
+        // The box covers part of where the drug goes: atoms outside it,
+        // and atoms of a type without a map, are scored exactly.
+        let bx = MapBox::cube(DVec3::new(1.0, 0.0, 0.0), 7.0, 0.375);
+        let maps = Maps::build(&r, Scoring::Vina, &[XsType::C_H, XsType::O_A], &bx, 2).unwrap();
+        let exact = Exact::new(&r, Scoring::Vina);
+        let fast = MapField::new(&maps, exact);
+        let slow = PerAtom(fast);
+        let mut rng = Rng(17);
+        let types = [XsType::C_H, XsType::O_A, XsType::N_D];
+        for n in [1, 4, 5, 11] {
+            let lig = rigid_drug(&mut rng, n, &types);
+            let drug = RigidDrug::new(&fast, &lig, &[]);
+            for _ in 0..40 {
+                let rotation = glam::DQuat::from_axis_angle(rng.unit(), rng.f64() * 3.0);
+                let pose = Pose::new(rotation, rng.in_box(DVec3::splat(4.0)));
+                let (e, f, m) = drug.energy_gradient(&fast, &pose);
+                let (e0, f0, m0) = drug.energy_gradient(&slow, &pose);
+                let close = |a: f64, b: f64| (a - b).abs() <= 2e-4 * (1.0 + b.abs());
+                assert!(close(e, e0), "{n} atoms: energy {e} vs {e0}");
+                for a in 0..3 {
+                    assert!(close(f[a], f0[a]), "{n} atoms: force {f} vs {f0}");
+                    assert!(close(m[a], m0[a]), "{n} atoms: moment {m} vs {m0}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn four_lanes_interpolate_as_one() {
+        let r = receptor(9, 300);
+        let bx = MapBox::cube(DVec3::ZERO, 6.0, 0.5);
+        let maps = Maps::build(&r, Scoring::Vina, &[XsType::C_H], &bx, 1).unwrap();
+        let l = maps.lattice;
+        let q = maps.quads[0].as_slice();
+        let mut rng = Rng(3);
+        for _ in 0..200 {
+            // Some lanes outside (or NaN), some without a map.
+            let g: [DVec3; 4] = std::array::from_fn(|_| rng.in_box(DVec3::splat(16.0)));
+            let g = [
+                g[0],
+                g[1],
+                g[2],
+                if rng.f64() < 0.1 { DVec3::NAN } else { g[3] },
+            ];
+            let map: [&Quads; 4] = std::array::from_fn(|_| if rng.f64() < 0.2 { &[] } else { q });
+            let lanes = l.interpolate4(map, [0, 1, 2].map(|a| f32x4::from(g.map(|p| p[a] as f32))));
+            for k in 0..4 {
+                let gk = g[k].as_vec3().as_dvec3();
+                let one = l.interpolate_quads(map[k], gk);
+                let missed = lanes.missed & (1 << k) != 0;
+                assert_eq!(missed, one.is_none(), "lane {k} at {gk}");
+                let e = f64::from(lanes.energy.to_array()[k]);
+                let d = lanes.gradient.map(|v| f64::from(v.to_array()[k]));
+                let (e1, d1) = one.unwrap_or_default();
+                assert!((e - e1).abs() <= 1e-4 * (1.0 + e1.abs()), "{e} vs {e1}");
+                for a in 0..3 {
+                    assert!((d[a] - d1[a]).abs() <= 1e-3 * (1.0 + d1[a].abs()));
+                }
+            }
+        }
     }
 
     #[test]

@@ -149,7 +149,7 @@ pub fn complex_names(v: &Value) -> Vec<String> {
 
 /// The shared complexes of the reference and how they are loaded, shared
 /// with the report's settle rates.
-pub use bump_testkit::settle_rates::{COMPLEXES, load_complex};
+pub use bump_testkit::vina_reference::{COMPLEXES, load_complex};
 
 /// `../shared/pdb`, or `None` (with a message) when it is absent outside CI.
 pub fn shared_pdb() -> Option<PathBuf> {

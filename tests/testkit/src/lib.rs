@@ -11,6 +11,8 @@
 //!   scaling benchmarks.
 //! - [`parry`]: parry3d doing move-to-touch, the independent baseline.
 //! - [`score_bench`]: the scoring's benchmark setups and report section.
+//! - [`vina_reference`]: the Vina reference's complexes and how to load
+//!   them.
 //! - [`settle_rates`]: settle from perturbed crystal poses on the Vina
 //!   reference's complexes, checked by a test and printed by the report.
 //!
@@ -24,6 +26,7 @@ pub mod rng;
 pub mod score_bench;
 pub mod settle_rates;
 pub mod surface;
+pub mod vina_reference;
 
 pub use data::shared_pdb;
 pub use molecules::{all_colliders, atom, random_molecule};

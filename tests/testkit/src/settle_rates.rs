@@ -2,8 +2,9 @@
 //! reference (`tests/reference/vina/values.json`): what `tests/settle.rs`
 //! checks and the report's scoring section prints, from the same runs.
 //!
-//! Each complex is loaded as the reference prepared it ([`load_complex`]:
-//! the file's polymer as the receptor), the drug starts at seeded
+//! Each complex is loaded as the reference prepared it
+//! ([`load_complex`](crate::vina_reference::load_complex): the file's
+//! polymer as the receptor), the drug starts at seeded
 //! perturbations of its crystal pose ([`perturbations`]: up to 1.5 Å and
 //! 30°) and settles on maps (0.375 Å, 6 Å around the crystal pose) with
 //! the hashed grid keeping it collision-free under the default rule. Each
@@ -13,7 +14,6 @@
 use std::path::{Path, PathBuf};
 
 use bump::collide::{Collider, ColliderKind, ContactRule};
-use bump::model::{self, LigandSpec, LoadOptions, Molecule};
 use bump::motion::Pose;
 use bump::rng::Rng;
 use bump::score::maps::{MapBox, Maps};
@@ -21,52 +21,7 @@ use bump::score::settle::rmsd;
 use bump::score::{Contacts, Exact, MapField, Scoring, SettleOptions, prepare, settle};
 use glam::{DQuat, DVec3};
 
-/// The shared complexes of the Vina reference: id, receptor file, ligand
-/// residue in the receptor file (empty: none) and ligand SDF.
-pub const COMPLEXES: &[(&str, &str, &str, Option<&str>)] = &[
-    ("1hvr_XK2", "1hvr.pdb", "XK2:A", None),
-    ("1rx1_NAP", "1rx1.pdb", "NAP:A", None),
-    (
-        "1s3v_TQD",
-        "1s3v_protein.pdb",
-        "",
-        Some("1s3v_ligand_tqd.sdf"),
-    ),
-    ("1u72_MTX", "1u72.pdb", "MTX:A", None),
-    ("3nzd_D2Q", "3nzd.cif", "D2Q:A", None),
-    ("3ptb_BEN", "3ptb.pdb", "BEN", Some("benzamidine_3ptb.sdf")),
-    ("4dfr_MTX", "4dfr.pdb", "MTX:A", None),
-    (
-        "6xg5_TOP",
-        "6xg5_tmp_prepared.pdb",
-        "TOP",
-        Some("trimethoprim_top_6xg5pose.sdf"),
-    ),
-];
-
-/// A complex loaded by bump as the reference prepared it: the receptor is
-/// the file's polymer (`ATOM` records: every hetero group, waters, ions and
-/// cofactors included, left out, as `make_reference.py` does), the drug the
-/// SDF or the named residue.
-pub fn load_complex(dir: &Path, id: &str) -> (Molecule, Molecule) {
-    let &(_, file, residue, sdf) = COMPLEXES.iter().find(|c| c.0 == id).expect("a complex");
-    let s = model::load(&dir.join(file), &LoadOptions::default())
-        .expect(file)
-        .structure;
-    let polymer: Vec<usize> = (0..s.atoms.len()).filter(|&i| !s.atoms[i].hetero).collect();
-    let receptor = model::select::molecule_from(&s, &polymer, format!("{file} polymer"));
-    let drug = match sdf {
-        Some(f) => {
-            let d = model::load(&dir.join(f), &LoadOptions::default()).expect(f);
-            model::receptor_only(&d.structure).expect(f)
-        }
-        None => {
-            let spec = LigandSpec::parse(residue).expect("spec");
-            model::split_complex(&s, &spec).expect(id).1
-        }
-    };
-    (receptor, drug)
-}
+use crate::vina_reference::{COMPLEXES, load_complex};
 
 /// Seeded perturbations of a pose: a shift of up to 1.5 Å and a turn of up
 /// to 30° about the drug's centre.
