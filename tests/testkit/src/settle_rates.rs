@@ -2,9 +2,8 @@
 //! reference (`tests/reference/vina/values.json`): what `tests/settle.rs`
 //! checks and the report's scoring section prints, from the same runs.
 //!
-//! Each complex is loaded as the reference prepared it
-//! ([`load_complex`](crate::vina_reference::load_complex): the file's
-//! polymer as the receptor), the drug starts at seeded
+//! Each complex is loaded as the reference prepared it ([`load_complex`]:
+//! the file's polymer as the receptor), the drug starts at seeded
 //! perturbations of its crystal pose ([`perturbations`]: up to 1.5 Å and
 //! 30°) and settles on maps (0.375 Å, 6 Å around the crystal pose) with
 //! the hashed grid keeping it collision-free under the default rule. Each
