@@ -53,6 +53,27 @@ pub trait Field {
     }
 }
 
+/// `F` read one atom at a time: its [`Field::atom_energy`] and
+/// [`Field::atom_energy_gradient`] without any faster way of its own to
+/// take many atoms (the trait's defaults for the rest). The reference a
+/// faster path is tested and timed against.
+#[derive(Debug, Clone, Copy)]
+pub struct PerAtom<'a, F: ?Sized>(pub &'a F);
+
+impl<F: Field + ?Sized> Field for PerAtom<'_, F> {
+    fn table(&self) -> &'static Table {
+        self.0.table()
+    }
+
+    fn atom_energy(&self, t: XsType, x: DVec3) -> f64 {
+        self.0.atom_energy(t, x)
+    }
+
+    fn atom_energy_gradient(&self, t: XsType, x: DVec3) -> (f64, DVec3) {
+        self.0.atom_energy_gradient(t, x)
+    }
+}
+
 /// Working storage for evaluations, kept between calls so that none
 /// allocates.
 #[derive(Debug, Clone, Default)]

@@ -851,22 +851,6 @@ mod tests {
         assert!(maps.sample(XsType::O_A, DVec3::NAN).is_none());
     }
 
-    /// The per-atom path of [`Field`] over the same maps: what the
-    /// four-lane rigid path must agree with.
-    struct PerAtom<'a>(MapField<'a>);
-
-    impl Field for PerAtom<'_> {
-        fn table(&self) -> &'static Table {
-            self.0.table()
-        }
-        fn atom_energy(&self, t: XsType, x: DVec3) -> f64 {
-            self.0.atom_energy(t, x)
-        }
-        fn atom_energy_gradient(&self, t: XsType, x: DVec3) -> (f64, DVec3) {
-            self.0.atom_energy_gradient(t, x)
-        }
-    }
-
     /// A rigid drug of `n` atoms of `types` in turn, spread over a few Å.
     fn rigid_drug(rng: &mut Rng, n: usize, types: &[XsType]) -> Ligand {
         let local: Vec<DVec3> = (0..n).map(|_| rng.in_box(DVec3::splat(3.0))).collect();
@@ -888,7 +872,7 @@ mod tests {
         let maps = Maps::build(&r, Scoring::Vina, &[XsType::C_H, XsType::O_A], &bx, 2).unwrap();
         let exact = Exact::new(&r, Scoring::Vina);
         let fast = MapField::new(&maps, exact);
-        let slow = PerAtom(fast);
+        let slow = crate::score::PerAtom(&fast);
         let mut rng = Rng(17);
         let types = [XsType::C_H, XsType::O_A, XsType::N_D];
         for n in [1, 4, 5, 11] {

@@ -42,7 +42,7 @@ pub mod table;
 
 pub use crate::chem::XsType;
 pub use exact::Exact;
-pub use field::{Energies, Field, RigidDrug, Workspace, energies, energy_gradient};
+pub use field::{Energies, Field, PerAtom, RigidDrug, Workspace, energies, energy_gradient};
 pub use function::{Scoring, curl, torsion_divisor};
 pub use ligand::{Conformation, Fragment, Gradient, Ligand, LigandError};
 pub use maps::{MapBox, MapField, Maps, MapsError, MapsJob};

@@ -23,10 +23,9 @@ use bump::model::{self, LigandSpec, LoadOptions, Molecule};
 use bump::motion::Pose;
 use bump::rng::Rng;
 use bump::score::maps::{MapBox, Maps};
-use bump::score::table::Table;
 use bump::score::{
-    Conformation, Contacts, Exact, Field, Gradient, Ligand, MapField, Receptor, RigidDrug, Scoring,
-    SettleOptions, Workspace, XsType, energies, energy_gradient, prepare, settle,
+    Conformation, Contacts, Exact, Gradient, Ligand, MapField, PerAtom, Receptor, RigidDrug,
+    Scoring, SettleOptions, Workspace, energies, energy_gradient, prepare, settle,
 };
 use glam::{DQuat, DVec3};
 
@@ -148,25 +147,6 @@ pub fn at_surface(receptor_mol: &Molecule, lig: &Ligand) -> Conformation {
         },
     );
     lig.rigid(Pose::from_translation(far + DVec3::X * 5.0))
-}
-
-/// An evaluator read one atom at a time: `F` without its own
-/// [`Field::rigid_energy_gradient`], the baseline that [`MapField`]'s
-/// four-lane rigid path is timed against.
-pub struct PerAtom<'a, F>(pub &'a F);
-
-impl<F: Field> Field for PerAtom<'_, F> {
-    fn table(&self) -> &'static Table {
-        self.0.table()
-    }
-
-    fn atom_energy(&self, t: XsType, x: DVec3) -> f64 {
-        self.0.atom_energy(t, x)
-    }
-
-    fn atom_energy_gradient(&self, t: XsType, x: DVec3) -> (f64, DVec3) {
-        self.0.atom_energy_gradient(t, x)
-    }
 }
 
 /// The scaling receptors: (label, file), 1.3k to 272k atoms.
