@@ -594,3 +594,41 @@ fn steer_flexible_turns_the_torsions_home_and_settles_free_of_overlaps() {
     assert_eq!(v["best_rmsd"], again["best_rmsd"]);
     assert_eq!(v["settled"], again["settled"]);
 }
+
+/// Soft contacts leave the drug up to the soft limit inside the contact
+/// rule; settle after a soft flexible run pushes it out and always ends free
+/// of overlaps, from every start the report's dockability table uses, even
+/// where the energy alone would hold the drug in the overlap.
+#[test]
+fn steer_soft_flexible_settles_free_of_overlaps_from_every_direction() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let p = |f: &str| dir.join(f).to_str().expect("path").to_owned();
+    let complexes = [
+        (p("1s3v_protein.pdb"), vec![p("1s3v_ligand_tqd.sdf")]),
+        (p("3nzd.cif"), vec!["--ligand".to_owned(), "D2Q".to_owned()]),
+    ];
+    for (receptor, drug) in &complexes {
+        for (k, d) in bump::rng::sphere_directions(32).iter().enumerate() {
+            let direction = format!("{},{},{}", d.x, d.y, d.z);
+            let seed = (k + 1).to_string();
+            let mut args = vec!["steer", receptor.as_str()];
+            args.extend(drug.iter().map(String::as_str));
+            args.extend([
+                "--direction",
+                &direction,
+                "--response",
+                "soft",
+                "--flexible",
+                "--settle",
+                "--seed",
+                &seed,
+                "--json",
+            ]);
+            let v = json(&args);
+            let settled = &v["settled"];
+            assert_eq!(settled["collides"], false, "{receptor} direction {k}: {v}");
+        }
+    }
+}

@@ -53,9 +53,13 @@
 //! [`ESCAPE_STEP`] in a step, so none can jump over an atom), until every
 //! pair is [`ESCAPE_CLEARANCE`] clear of contact, or until the minimiser
 //! gets no farther from a pose that collides nowhere
-//! ([`Settled::escape_steps`]); from there the rule holds for every step. If the minimisation ends before the drug
-//! is out, the result's collisions are reported
-//! ([`Settled::end_collisions`]).
+//! ([`Settled::escape_steps`]); from there the rule holds for every step.
+//! Where the energy holds the drug in an overlap (an attraction, such as a
+//! hydrogen bond pulling a pair closer than the rule allows, balancing the
+//! penalty) or the escape stalls, the penalty alone goes on pushing, in the
+//! same short steps, and the energy returns once the drug is out. If even
+//! that ends before the drug is out (it is caged), the result's collisions
+//! are reported ([`Settled::end_collisions`]).
 //!
 //! # Why one module
 //! The minimiser and the checks of its steps share one working state (the
@@ -699,12 +703,24 @@ pub fn settle<F: Field + ?Sized>(
     let mut extra = Gradient::default();
     let mut atom_g: Vec<DVec3> = Vec::new();
     let mut tree = Vec::new();
+    let mut frames = Vec::new();
     let mut evaluate = |conf: &Conformation,
                         ws: &mut Workspace,
                         run: &mut Run<'_, '_, '_>,
+                        push_only: bool,
                         out: &mut Vec<f64>|
      -> f64 {
-        let mut f = energy_gradient(field, lig, conf, ws, &mut grad).sum();
+        let mut f = if push_only {
+            // The penalty alone: its positions, and no energy to pull back.
+            lig.place_into(conf, &mut frames, &mut ws.positions);
+            grad.translation = DVec3::ZERO;
+            grad.rotation = DVec3::ZERO;
+            grad.torsions.clear();
+            grad.torsions.resize(lig.torsions(), 0.0);
+            0.0
+        } else {
+            energy_gradient(field, lig, conf, ws, &mut grad).sum()
+        };
         {
             atom_g.clear();
             atom_g.resize(ws.positions.len(), DVec3::ZERO);
@@ -720,7 +736,11 @@ pub fn settle<F: Field + ?Sized>(
         f
     };
     let mut g = Vec::with_capacity(n);
-    let mut f0 = evaluate(&x, &mut ws, &mut run, &mut g);
+    // Out of a colliding start, the energy may hold the drug in an overlap
+    // (an attraction balancing the penalty) or stall it there; then the
+    // penalty alone pushes it out, and the energy returns once it is free.
+    let mut push_only = false;
+    let mut f0 = evaluate(&x, &mut ws, &mut run, push_only, &mut g);
     let minimised_start = f0;
     let mut xs = ws.positions.clone();
     let mut evaluations = 1;
@@ -735,6 +755,12 @@ pub fn settle<F: Field + ?Sized>(
     let mut restarted = false;
     while steps < opts.max_steps {
         let Some((p, pg)) = descent(&mut h, &g, n) else {
+            if !free && !push_only {
+                push_only = true;
+                f0 = evaluate(&x, &mut ws, &mut run, push_only, &mut g);
+                evaluations += 1;
+                continue;
+            }
             break;
         };
         let mut alpha = run.first_alpha(&x, &xs, &p, free);
@@ -754,7 +780,7 @@ pub fn settle<F: Field + ?Sized>(
                 alpha *= 0.5;
                 continue;
             }
-            let f1 = evaluate(&trial, &mut ws, &mut run, &mut g_new);
+            let f1 = evaluate(&trial, &mut ws, &mut run, push_only, &mut g_new);
             evaluations += 1;
             if f1 - f0 < 1e-4 * alpha * pg {
                 accepted = Some((trial, f1));
@@ -771,6 +797,19 @@ pub fn settle<F: Field + ?Sized>(
                 run.contacts
                     .clearances(&xs, opts.margin, &mut run.atom_gap, &mut run.pair_gap);
                 h = identity(n);
+                if push_only {
+                    push_only = false;
+                    f0 = evaluate(&x, &mut ws, &mut run, push_only, &mut g);
+                    evaluations += 1;
+                }
+                continue;
+            }
+            if restarted && !free && !push_only {
+                push_only = true;
+                restarted = false;
+                h = identity(n);
+                f0 = evaluate(&x, &mut ws, &mut run, push_only, &mut g);
+                evaluations += 1;
                 continue;
             }
             if restarted {
@@ -794,17 +833,38 @@ pub fn settle<F: Field + ?Sized>(
             // Out, with room to move: from here the rule holds.
             free = true;
             escape_steps = steps;
+            if push_only {
+                push_only = false;
+                h = identity(n);
+                f0 = evaluate(&x, &mut ws, &mut run, push_only, &mut g);
+                evaluations += 1;
+                run.contacts
+                    .clearances(&xs, opts.margin, &mut run.atom_gap, &mut run.pair_gap);
+                continue;
+            }
         }
         if free {
             run.contacts
                 .clearances(&xs, opts.margin, &mut run.atom_gap, &mut run.pair_gap);
         }
         if decrease < opts.min_decrease || dot(&g, &g).sqrt() < 1e-5 {
+            if !free && !push_only {
+                push_only = true;
+                h = identity(n);
+                f0 = evaluate(&x, &mut ws, &mut run, push_only, &mut g);
+                evaluations += 1;
+                continue;
+            }
             break;
         }
         bfgs_update(&mut h, &s, &y, steps == 1);
     }
-    let minimised_end = f0;
+    let minimised_end = if push_only {
+        evaluations += 1;
+        evaluate(&x, &mut ws, &mut run, false, &mut g)
+    } else {
+        f0
+    };
     let after = energies(field, lig, &x, &mut ws);
     let end_collisions = if free {
         Vec::new()
