@@ -306,6 +306,7 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
             r.step_p99
         ));
     }
+    md.push_str("\n![dockability](bench/dockability.svg)\n");
     for s in &skipped {
         md.push_str(&format!("\nSkipped {s}\n"));
     }

@@ -755,7 +755,7 @@ pub fn settle<F: Field + ?Sized>(
     let mut restarted = false;
     while steps < opts.max_steps {
         let Some((p, pg)) = descent(&mut h, &g, n) else {
-            if !free && !push_only {
+            if !free && !push_only && !run.contacts.collisions(&xs).is_empty() {
                 push_only = true;
                 f0 = evaluate(&x, &mut ws, &mut run, push_only, &mut g);
                 evaluations += 1;
@@ -848,7 +848,7 @@ pub fn settle<F: Field + ?Sized>(
                 .clearances(&xs, opts.margin, &mut run.atom_gap, &mut run.pair_gap);
         }
         if decrease < opts.min_decrease || dot(&g, &g).sqrt() < 1e-5 {
-            if !free && !push_only {
+            if !free && !push_only && !run.contacts.collisions(&xs).is_empty() {
                 push_only = true;
                 h = identity(n);
                 f0 = evaluate(&x, &mut ws, &mut run, push_only, &mut g);
