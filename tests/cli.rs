@@ -540,6 +540,11 @@ fn steer_reports_the_run_as_json_and_refuses_a_zero_direction() {
     assert_eq!(v["response"], "pass");
     assert!(v["start_distance"].as_f64().expect("start") >= 8.0);
     assert!(v["final_rmsd"].as_f64().expect("final") < 1e-6);
+    // The path pressed deeper than the soft limit is there exactly when the
+    // run went deeper than the limit at all.
+    let beyond = v["path_beyond_limit"].as_f64().expect("beyond");
+    let deepest = v["deepest_overlap"].as_f64().expect("deepest");
+    assert_eq!(beyond > 0.0, deepest > 1.0 + 1e-6, "{v}");
     let v = json(&[
         "steer",
         "builtin",
@@ -551,6 +556,7 @@ fn steer_reports_the_run_as_json_and_refuses_a_zero_direction() {
     ]);
     let deepest = v["deepest_overlap"].as_f64().expect("deepest");
     assert!((0.0..=1.0 + 1e-4).contains(&deepest), "{v}");
+    assert_eq!(v["path_beyond_limit"], 0.0, "{v}");
     let frames = v["frames"].as_u64().expect("frames");
     assert!((1..=3000).contains(&frames));
     assert!(v["best_rmsd"].as_f64() <= v["final_rmsd"].as_f64());

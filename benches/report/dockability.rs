@@ -13,7 +13,9 @@
 //! Where no response gets there, the `pass` rows say why: under `pass`
 //! (collision off) the controller's path is the straight one, and its
 //! deepest overlap, least over the directions, is how far the drug must
-//! press into the receptor on the best straight path from outside.
+//! press into the receptor on the best straight path from outside, and the
+//! length of the path pressed deeper than the soft limit, how much of the
+//! receptor lies between a start and the pocket.
 
 use std::path::Path;
 use std::time::Instant;
@@ -161,6 +163,10 @@ struct Row {
     /// Runs whose deepest overlap stays within the soft limit (under
     /// `pass`: the straight paths `soft` could follow).
     within_limit: usize,
+    /// Median over the runs of the path's length deeper than the soft
+    /// limit (under `pass`: how far the straight path runs through the
+    /// receptor beyond what `soft` allows), Å.
+    beyond_limit: f64,
     step_median: f64,
     step_p99: f64,
     /// Runs settled, median settled RMSD, collision-free after settle.
@@ -202,6 +208,7 @@ fn summarise(complex: &'static str, opts: SteerOptions, runs: &[Run]) -> Row {
             .iter()
             .filter(|r| r.deepest_overlap <= bump::collide::soft::DEFAULT_LIMIT + 1e-9)
             .count(),
+        beyond_limit: median(&done.iter().map(|r| r.path_beyond_limit).collect::<Vec<_>>()),
         step_median: median(&steps),
         step_p99: quantile(&steps, 0.99),
     }
@@ -268,12 +275,14 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
          path from outside presses into the receptor: more than the soft limit means no \
          response that keeps to it can follow a straight path in); *straight within the \
          limit*, under `pass`, how many starts have a straight path in whose deepest overlap \
-         stays within the soft limit. Step times are each \
+         stays within the soft limit, and *beyond the limit* the median over the starts of \
+         how many Å of the straight path run pressed deeper than that (through the receptor, \
+         where no response that keeps to the limit can follow it). Step times are each \
          collision response's (a rigid move or one bond's turn), over every run. The soft \
          flexible runs then settle (the session's settle, exact Vina): the median heavy-atom \
          RMSD after settle and how many end free of overlaps. {} runs in {seconds:.0} s.\n\n\
-         | complex | drug | response | starts | reached | rate | frames (median) | deepest Å | least deepest Å | straight within the limit | step µs (median) | step µs (p99) | settled RMSD Å (median) | settled collision-free |\n\
-         | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+         | complex | drug | response | starts | reached | rate | frames (median) | deepest Å | least deepest Å | straight within the limit | beyond the limit Å (median) | step µs (median) | step µs (p99) | settled RMSD Å (median) | settled collision-free |\n\
+         | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
         rows.iter().map(|r| r.starts).sum::<usize>()
     ));
     for r in &rows {
@@ -281,13 +290,16 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
             Some((k, rmsd, free)) if k > 0 => (format!("{rmsd:.2}"), format!("{free} of {k}")),
             _ => ("–".to_string(), "–".to_string()),
         };
-        let within = if r.response == Response::Pass {
-            format!("{} of {}", r.within_limit, r.starts)
+        let (within, beyond) = if r.response == Response::Pass {
+            (
+                format!("{} of {}", r.within_limit, r.starts),
+                format!("{:.1}", r.beyond_limit),
+            )
         } else {
-            "–".to_string()
+            ("–".to_string(), "–".to_string())
         };
         md.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {:.0} % | {} | {:.2} | {:.2} | {within} | {:.1} | {:.1} | {settled_rmsd} | {free} |\n",
+            "| {} | {} | {} | {} | {} | {:.0} % | {} | {:.2} | {:.2} | {within} | {beyond} | {:.1} | {:.1} | {settled_rmsd} | {free} |\n",
             r.complex,
             if r.flexible { "flexible" } else { "rigid" },
             r.response.name(),

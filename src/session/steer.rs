@@ -140,6 +140,11 @@ pub struct SteerReport {
     pub frames: usize,
     /// Deepest overlap beyond the default contact rule over the run, Å.
     pub deepest_overlap: f64,
+    /// Length of the drug centre's path over the frames that end pressed
+    /// deeper than the soft limit beyond the contact rule, Å: under `pass`
+    /// (collision off), how much of the straight path runs through the
+    /// receptor farther in than `soft` may go.
+    pub path_beyond_limit: f64,
     /// Median time of one collision response step (a rigid move or a
     /// bond's turn), µs.
     pub step_us_median: f64,
@@ -335,11 +340,14 @@ pub fn steer(
         final_rmsd: 0.0,
         frames: 0,
         deepest_overlap: 0.0,
+        path_beyond_limit: 0.0,
         step_us_median: 0.0,
         step_us_p99: 0.0,
         settled: None,
         step_us: Vec::new(),
     };
+    let limit = session.settings.soft_limit;
+    let mut last_centre = session.bodies()[1].pose.translation;
     for frame in 1..=MAX_FRAMES {
         let commands = proposal(&session, &file, opts.flexible);
         if commands.is_empty() {
@@ -354,6 +362,11 @@ pub fn steer(
             .map(Contact::depth)
             .fold(0.0f32, f32::max);
         report.deepest_overlap = report.deepest_overlap.max(f64::from(deepest));
+        let centre = session.bodies()[1].pose.translation;
+        if f64::from(deepest) > limit + 1e-6 {
+            report.path_beyond_limit += centre.distance(last_centre);
+        }
+        last_centre = centre;
         let r = now_rmsd(&session);
         report.best_rmsd = report.best_rmsd.min(r);
         if r <= REACHED_RMSD && !report.reached {
