@@ -13,8 +13,9 @@
 //! a margin, and reads the table, in f64 and in the gathered order, only
 //! for those that pass. The pairs within 8 Å come in the order the cell
 //! visit of one atom gives them and the rest add exact zeros, so the sums
-//! are the one-atom path's to the bit. A drug spread so wide that its
-//! gathered sphere outweighs its atoms' own spheres takes the one-atom path.
+//! are the one-atom path's to the bit (for finite positions). A drug of
+//! fewer than four atoms, or spread so wide that its gathered ball
+//! outweighs its atoms' own balls, takes the one-atom path.
 
 use std::cell::RefCell;
 
@@ -92,7 +93,8 @@ const FAR: f32 = 1.0e6;
 const NEAR2: f32 = (CUTOFF2 + 0.25) as f32;
 
 impl Near {
-    /// Gathers the atoms of `cells` within `radius` + 8 Å of `centre`.
+    /// Gathers the receptor's atoms in the cells that the ball of
+    /// `radius` + 8 Å around `centre` reaches, in cell order.
     fn gather(&mut self, receptor: &Receptor, centre: DVec3, radius: f64) {
         self.centre = centre;
         self.atoms.clear();
