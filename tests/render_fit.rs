@@ -1,7 +1,9 @@
 //! Image tests of the views of the fit, on whatever adapter there is
 //! (Mesa's CPU Vulkan in CI): colour by contribution shows a known
 //! favourable atom blue and a known unfavourable one red where they
-//! project, and recolouring uploads only the atoms whose colour changed.
+//! project, and recolouring uploads only the atoms whose colour changed;
+//! turned bonds and a settle's frames are drawn as a session there would
+//! draw them; the ghost keeps the reference's conformation.
 
 mod common;
 
@@ -10,9 +12,11 @@ use common::gpu;
 use bump::model::{LigandSpec, LoadOptions};
 use bump::render::colors::{CONTRIBUTION_LEVELS, level_color};
 use bump::render::contrib::ContributionColors;
+use bump::render::ghost::Ghost;
 use bump::render::offscreen::Offscreen;
-use bump::render::view::{model_views, projection};
+use bump::render::view::{depth_range, model_views, projection};
 use bump::render::{Cues, ViewParams};
+use bump::session::framing::drug_view;
 use bump::session::{Command, FrameInput, LiveScore, Session, Settings};
 use glam::{DVec3, Vec3};
 
@@ -282,4 +286,93 @@ fn a_settles_frames_draw_the_drug_where_a_session_there_would() {
         .set_local_positions(&gpu.queue, d, &here.bodies()[d].molecule.local);
     let back = off.render(&gpu, &here, &params).expect("render");
     assert!(back == before, "the session's own pose did not come back");
+}
+
+/// The ghost keeps the reference's conformation while the drug's bonds
+/// turn (the drug itself is moved out of the picture, sideways, so the
+/// depth range stays and only the ghost and the receptor are drawn): with
+/// a bond turned, the ghost is drawn exactly as with the drug at its file
+/// torsions; after pinning a turned drug, it keeps the pinned shape when
+/// the drug turns back. Its own atoms are written once per reference.
+#[test]
+fn the_ghost_keeps_the_reference_conformation_while_bonds_turn() {
+    let Some(gpu) = gpu() else { return };
+    let (w, h) = (240, 180);
+    let ghost = ViewParams {
+        cues: Cues::NONE,
+        ghost: Some(Ghost {
+            opacity: 1.0,
+            ..Ghost::default()
+        }),
+        ..ViewParams::default()
+    };
+    let plain = ViewParams {
+        ghost: None,
+        ..ghost
+    };
+    // A session whose drug is set to `first` (and pinned there when asked),
+    // moved out of view, then set to `then`.
+    let session = |first: &[f64], pin: bool, then: &[f64]| -> Option<Session> {
+        let mut s = dhfr_trimethoprim()?;
+        let d = s.drug().expect("a drug");
+        // Looking at the drug from the pocket's open side.
+        *s.camera_mut() = drug_view(s.bodies(), d).expect("a view");
+        s.set_torsions(d, first).expect("torsions");
+        s.step(&FrameInput::default(), 0.0);
+        if pin {
+            assert!(s.pin_reference(), "nothing to pin");
+        }
+        let right = s
+            .view_camera()
+            .view_matrix()
+            .inverse()
+            .transform_vector3(DVec3::X);
+        move_drug(&mut s, right * 400.0);
+        s.set_torsions(d, then).expect("torsions");
+        Some(s)
+    };
+    let Some(probe) = dhfr_trimethoprim() else {
+        return;
+    };
+    let n = probe.torsion_angles(probe.drug().expect("a drug")).len();
+    assert!(n > 0, "trimethoprim has rotatable bonds");
+    let file = vec![0.0; n];
+    let turned: Vec<f64> = (0..n).map(|k| 1.0 + 0.5 * k as f64).collect();
+    let draw = |s: &Session, params: &ViewParams| {
+        let mut off = Offscreen::new(&gpu, s, w, h).expect("target");
+        let image = off.render(&gpu, s, params).expect("render");
+        let again = off.render(&gpu, s, params).expect("render");
+        assert!(image == again);
+        (image, off.spheres.upload_stats().ghost_bytes)
+    };
+    let (Some(at_file), Some(bent)) = (
+        session(&turned, false, &file),
+        session(&file, false, &turned),
+    ) else {
+        return;
+    };
+    assert_eq!(depth_range(&at_file), depth_range(&bent));
+    let (want, bytes) = draw(&at_file, &ghost);
+    assert_eq!(bytes, 0, "the drug's own atoms show the file shape");
+    assert!(want != draw(&at_file, &plain).0, "the ghost is not drawn");
+    let (got, bytes) = draw(&bent, &ghost);
+    let once = 32 * probe.bodies()[1].molecule.len() as u64;
+    assert_eq!(
+        bytes, once,
+        "the ghost's own atoms, written once for two frames"
+    );
+    assert!(got == want, "the ghost turned with the drug");
+
+    let (Some(pinned_here), Some(pinned_back)) = (
+        session(&turned, true, &turned),
+        session(&turned, true, &file),
+    ) else {
+        return;
+    };
+    let (want, bytes) = draw(&pinned_here, &ghost);
+    assert_eq!(bytes, 0);
+    let (got, bytes) = draw(&pinned_back, &ghost);
+    assert_eq!(bytes, once);
+    assert!(got == want, "the ghost left the pinned shape");
+    assert!(got != draw(&at_file, &ghost).0, "pinning changed nothing");
 }

@@ -3,10 +3,13 @@
 //! user pinned), so the target stays in sight while docking.
 //!
 //! It costs one matrix and two instanced draws of the drug's atoms (the
-//! ghost's front surface into depth, then blended where it is frontmost):
-//! no atom data is copied. It is depth-tested against everything else, so
-//! it is seen inside the pocket and in front of or behind the moving drug
-//! as it really lies.
+//! ghost's front surface into depth, then blended where it is frontmost).
+//! The ghost has the reference's conformation too: while the drug's
+//! torsions are those of the reference, it draws the drug's own atoms; once
+//! they differ, it draws its own copy of them placed at the reference
+//! torsions ([`ghost_torsions`]), uploaded once per reference. It is
+//! depth-tested against everything else, so it is seen inside the pocket
+//! and in front of or behind the moving drug as it really lies.
 
 use crate::motion::Pose;
 use crate::session::{Role, Session};
@@ -50,6 +53,15 @@ pub fn ghost_pose(session: &Session) -> Option<(usize, Pose)> {
     let world = bodies.get(receptor)?.pose.compose(&relative);
     bodies.get(drug)?;
     Some((drug, world))
+}
+
+/// The torsions of drug `d`'s reference conformation (the pinned one, or
+/// the file's) when they are not the drug's current ones: the ghost then
+/// needs its own atoms, placed at them ([`Session::shape_at`]). `None`
+/// when the drug's own atoms show the reference shape.
+pub fn ghost_torsions(session: &Session, d: usize) -> Option<Vec<f64>> {
+    let reference = session.reference_torsions(d);
+    (reference.as_slice() != session.torsion_angles(d)).then_some(reference)
 }
 
 #[cfg(test)]

@@ -16,8 +16,11 @@
 //! the composition (composed modes only).
 //!
 //! The ghost ([`super::ghost`]) adds one model-view matrix after the
-//! molecules' and two draws of the drug's atoms per eye; the clipping slab
-//! ([`super::slab`]) is two depths in the eye's uniform.
+//! molecules' and two draws of the drug's atoms per eye: the drug's own, or,
+//! when its torsions are not the reference's, the ghost's copy of them at
+//! the reference's (its own buffer and bind groups, written when the
+//! reference or the radii change). The clipping slab ([`super::slab`]) is
+//! two depths in the eye's uniform.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DQuat, DVec3, Mat4, Vec3};
@@ -25,7 +28,7 @@ use wgpu::util::DeviceExt;
 
 use super::colors;
 use super::cylinders::Cylinders;
-use super::ghost::ghost_pose;
+use super::ghost::{ghost_pose, ghost_torsions};
 use super::pipelines::{Pipelines, Role, SHADOW_SIZE, SphereKey, sphere_layout};
 use super::stereo::{EyeView, off_axis};
 use super::view::{ViewParams, depth_range_for, model_views, perspective, scene_sphere};
@@ -110,6 +113,29 @@ fn write_runs<T: bytemuck::Pod>(
     bytes
 }
 
+/// Bind group 0 of the sphere pipelines: the eye's uniform, the atoms,
+/// the model-view matrices and the highlight bits, in binding order.
+fn sphere_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    label: &str,
+    buffers: [&wgpu::Buffer; 4],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        .iter()
+        .zip(0u32..)
+        .map(|(b, binding)| wgpu::BindGroupEntry {
+            binding,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct GpuAtom {
@@ -177,6 +203,22 @@ pub struct UploadStats {
     pub radius_bytes: u64,
     /// Atom positions rewritten (torsions turned).
     pub position_bytes: u64,
+    /// The ghost's own atoms (its reference conformation) written.
+    pub ghost_bytes: u64,
+}
+
+/// The ghost's own atoms: the drug's, placed at the reference torsions.
+struct GhostAtoms {
+    /// What they were made of: the drug, the reference torsions and the
+    /// radius generation.
+    key: (usize, Vec<f64>, u64),
+    /// Atoms written.
+    count: u32,
+    /// Atoms the buffer holds.
+    capacity: usize,
+    buf: wgpu::Buffer,
+    /// Per eye: bind group 0 with the ghost's atoms in place of the scene's.
+    eyes: [wgpu::BindGroup; 2],
 }
 
 /// Draws every atom of a session as ray-cast spheres.
@@ -203,6 +245,12 @@ pub struct SphereRenderer {
     /// A molecule drawn at a pose other than its session pose (a settle's
     /// animation).
     shown: Option<(usize, Pose)>,
+    /// The layout of bind group 0 (for the ghost's own bind groups).
+    layout: wgpu::BindGroupLayout,
+    /// Counts radius changes (the ghost's copy follows them).
+    radius_generation: u64,
+    /// The ghost's own atoms, made when first needed.
+    ghost: Option<GhostAtoms>,
 }
 
 /// Light, fog and shadow settings shared by the eyes of a frame.
@@ -269,28 +317,12 @@ impl SphereRenderer {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout: &layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: frame_buf.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: atom_buf.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: mv_buf.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: hl_buf.as_entire_binding(),
-                    },
-                ],
-            });
+            let bind_group = sphere_bind_group(
+                device,
+                &layout,
+                label,
+                [&frame_buf, &atom_buf, &mv_buf, &hl_buf],
+            );
             (frame_buf, bind_group)
         };
         let eyes = [eye("first eye"), eye("second eye")];
@@ -325,6 +357,9 @@ impl SphereRenderer {
             stats,
             last: FrameStats::default(),
             shown: None,
+            layout,
+            radius_generation: 0,
+            ghost: None,
         }
     }
 
@@ -487,6 +522,9 @@ impl SphereRenderer {
                 dirty.push(i);
             }
         }
+        if !dirty.is_empty() {
+            self.radius_generation += 1;
+        }
         let (n, bytes) = self.upload_atoms(queue, dirty);
         self.stats.radius_bytes += bytes;
         n
@@ -607,15 +645,87 @@ impl SphereRenderer {
         self.apply_highlights(queue, &changes);
     }
 
+    /// Makes the ghost's own atoms match drug `d`'s reference conformation
+    /// when it is not the drug's current one; `true` when the ghost is to
+    /// draw them, `false` when it draws the drug's own atoms.
+    fn sync_ghost(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        session: &Session,
+        d: usize,
+    ) -> bool {
+        let Some(torsions) = ghost_torsions(session, d) else {
+            return false;
+        };
+        let key = (d, torsions, self.radius_generation);
+        if self.ghost.as_ref().is_some_and(|g| g.key == key) {
+            return true;
+        }
+        let (Some(&base), Some((local, _))) = (self.offsets.get(d), session.shape_at(d, &key.1))
+        else {
+            return false;
+        };
+        let Some(drug) = self.atoms.get(base..base + local.len()) else {
+            return false;
+        };
+        // The drug's atoms (radii as drawn now) at the reference's places.
+        let atoms: Vec<GpuAtom> = drug
+            .iter()
+            .zip(&local)
+            .map(|(a, p)| GpuAtom {
+                pos_radius: [p.x, p.y, p.z, a.pos_radius[3]],
+                color_body: a.color_body,
+            })
+            .collect();
+        if atoms.is_empty() {
+            return false;
+        }
+        let bytes = std::mem::size_of_val(atoms.as_slice());
+        match &mut self.ghost {
+            Some(g) if g.capacity >= atoms.len() => {
+                queue.write_buffer(&g.buf, 0, bytemuck::cast_slice(&atoms));
+                g.count = atoms.len() as u32;
+                g.key = key;
+            }
+            _ => {
+                let buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("ghost atoms"),
+                    contents: bytemuck::cast_slice(&atoms),
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                });
+                let eye = |k: usize| {
+                    sphere_bind_group(
+                        device,
+                        &self.layout,
+                        "ghost",
+                        [&self.eyes[k].0, &buf, &self.mv_buf, &self.hl_buf],
+                    )
+                };
+                let eyes = [eye(0), eye(1)];
+                self.ghost = Some(GhostAtoms {
+                    key,
+                    count: atoms.len() as u32,
+                    capacity: atoms.len(),
+                    buf,
+                    eyes,
+                });
+            }
+        }
+        self.stats.ghost_bytes += bytes as u64;
+        true
+    }
+
     /// Records one eye's draws into `pass` (its viewport already set);
-    /// `ghost` is the drug's molecule index when its ghost is drawn.
+    /// `ghost` is the drug's molecule index when its ghost is drawn, and
+    /// whether it draws its own atoms ([`Self::sync_ghost`]).
     fn draw_eye(
         &mut self,
         device: &wgpu::Device,
         pass: &mut wgpu::RenderPass<'_>,
         k: usize,
         params: &ViewParams,
-        ghost: Option<usize>,
+        ghost: Option<(usize, bool)>,
     ) {
         let cues = params.cues;
         let key = |role| SphereKey {
@@ -656,12 +766,20 @@ impl SphereRenderer {
             self.last.draws += 1;
             self.draw_sticks(device, pass, k, cues);
         }
-        if let (Some(g), Some(d)) = (params.ghost, ghost) {
+        if let (Some(g), Some((d, own))) = (params.ghost, ghost) {
             // The drug's atoms again at the reference pose: their front
             // surface into depth (where nothing is nearer), then blended
             // there, so overlapping ghost atoms blend once.
-            let first = self.offsets.get(d).map_or(n, |&o| o as u32);
-            let end = self.offsets.get(d + 1).map_or(n, |&o| o as u32);
+            let (first, end) = match (&self.ghost, own) {
+                (Some(atoms), true) => {
+                    pass.set_bind_group(0, &atoms.eyes[k], &[]);
+                    (0, atoms.count)
+                }
+                _ => (
+                    self.offsets.get(d).map_or(n, |&o| o as u32),
+                    self.offsets.get(d + 1).map_or(n, |&o| o as u32),
+                ),
+            };
             let ghost_key = |role| SphereKey {
                 ghost: true,
                 ..key(role)
@@ -678,6 +796,7 @@ impl SphereRenderer {
             });
             pass.draw(0..6, first..end);
             self.last.draws += 2;
+            pass.set_bind_group(0, &self.eyes[k].1, &[]);
         }
     }
 
@@ -715,7 +834,7 @@ impl SphereRenderer {
         eyes: &[(usize, EyeView)],
         params: &ViewParams,
         background: [f64; 3],
-        ghost: Option<usize>,
+        ghost: Option<(usize, bool)>,
     ) {
         let post = params.cues.needs_post();
         {
@@ -819,6 +938,7 @@ impl SphereRenderer {
             mvs.push((view * model).as_mat4().to_cols_array());
             d
         });
+        let ghost = ghost.map(|d| (d, self.sync_ghost(device, queue, session, d)));
         if !mvs.is_empty() {
             queue.write_buffer(&self.mv_buf, 0, bytemuck::cast_slice(&mvs));
         }

@@ -623,6 +623,17 @@ impl Session {
         self.live.reference(&self.bodies)
     }
 
+    /// Molecule `d`'s torsions at the reference: the pinned ones when `d`
+    /// is the drug pinned, else the file's (all zero). Empty when `d` is not
+    /// a flexible drug.
+    pub fn reference_torsions(&self, d: usize) -> Vec<f64> {
+        let n = self.torsion_angles(d).len();
+        match self.live.pinned_torsions(d) {
+            Some(t) if t.len() == n => t.to_vec(),
+            _ => vec![0.0; n],
+        }
+    }
+
     /// One motion key's step: the view, or the selected molecule in object
     /// mode (through the collision response); a press starts a new undo
     /// entry.

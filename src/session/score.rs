@@ -167,6 +167,13 @@ impl LiveScoring {
         true
     }
 
+    /// The pinned torsions, when drug `d` is the one pinned.
+    pub(super) fn pinned_torsions(&self, d: usize) -> Option<&[f64]> {
+        let p = self.prepared.as_ref()?;
+        let (_, torsions) = self.pinned.as_ref()?;
+        (p.drug == d).then_some(torsions.as_slice())
+    }
+
     /// The reference pose (relative), when prepared.
     pub(super) fn reference(&self, bodies: &[Body]) -> Option<(usize, usize, Pose)> {
         let p = self.prepared.as_ref()?;
