@@ -249,3 +249,44 @@ fn every_pose_scores_as_vina_with_bumps_typing() {
     eprintln!("{}", lines.join("\n"));
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The live score's one walk over the pairs gives the same score and the
+/// same receptor atoms' shares, to the bit, as `score` and the separate
+/// `receptor_contributions`; the shares sum to the pairs' energy (the drug
+/// atoms' sums before the curl).
+#[test]
+fn a_score_with_contributions_is_the_score_and_the_contributions() {
+    use bump::score::contrib::receptor_contributions;
+    use bump::score::{Field, score_with_contributions};
+    let v = values();
+    let mut checked = 0;
+    for name in complex_names(&v) {
+        let cx = &v["complexes"][&name];
+        let (receptor, _) = receptor_from_values(cx);
+        for pose in cx["poses"].as_array().unwrap() {
+            let lig = ligand_at(cx, &pose_xyz(pose));
+            let conf = lig.rigid(Pose::IDENTITY);
+            let exact = Exact::new(&receptor, Scoring::Vina);
+            let (s, shares) =
+                score_with_contributions(&exact, Evaluator::Exact, &exact, &lig, &conf);
+            assert!(s == score(&exact, Evaluator::Exact, &exact, &lig, &conf));
+            let x = lig.place(&conf);
+            let want = receptor_contributions(&exact, &lig, &x);
+            assert_eq!(shares.len(), want.len(), "{name}");
+            for (a, b) in shares.iter().zip(&want) {
+                assert_eq!((a.0, a.1.to_bits()), (b.0, b.1.to_bits()), "{name}");
+            }
+            assert!(!shares.is_empty() && shares.windows(2).all(|w| w[0].0 < w[1].0));
+            let pairs: f64 = lig
+                .scored
+                .iter()
+                .zip(&lig.xs)
+                .map(|(&i, &t)| exact.atom_energy(t, x[i as usize]))
+                .sum();
+            let sum: f64 = shares.iter().map(|s| s.1).sum();
+            assert!((sum - pairs).abs() < 1e-9, "{name}: {sum} vs {pairs}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 0);
+}

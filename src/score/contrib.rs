@@ -7,6 +7,11 @@
 //! once in the receptor atom's), so each side shows which of its atoms
 //! help and which hurt. The curl that damps a drug atom's positive sum is
 //! not applied: it belongs to the drug atom's total, not to one pair.
+//!
+//! [`receptor_contributions`] walks the pairs on its own;
+//! [`super::report::score_with_contributions`] collects the same pairs in
+//! the same order during a score's own walk, so the lists are equal to the
+//! bit (a unit test there checks it).
 
 use glam::DVec3;
 
@@ -33,9 +38,22 @@ pub fn receptor_contributions(exact: &Exact<'_>, lig: &Ligand, x: &[DVec3]) -> V
             sums.push((receptor.source[j], e));
         });
     }
-    sums.sort_by_key(|s| s.0);
+    merge(sums)
+}
+
+/// The pair energies `(receptor atom, energy)` summed per receptor atom, in
+/// receptor-atom order; each atom's pairs are added in the order given.
+pub(super) fn merge(sums: Vec<(u32, f64)>) -> Vec<(u32, f64)> {
+    // Sorted by atom, then by place in `sums`: the order of a stable sort.
+    let mut keyed: Vec<(u64, f64)> = sums
+        .into_iter()
+        .zip(0u64..)
+        .map(|((a, e), k)| ((u64::from(a) << 32) | k, e))
+        .collect();
+    keyed.sort_unstable_by_key(|s| s.0);
     let mut out: Vec<(u32, f64)> = Vec::new();
-    for (a, e) in sums {
+    for (key, e) in keyed {
+        let a = (key >> 32) as u32;
         match out.last_mut() {
             Some(last) if last.0 == a => last.1 += e,
             _ => out.push((a, e)),

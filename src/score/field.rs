@@ -107,6 +107,14 @@ pub struct Workspace {
     tree: Vec<(DVec3, DVec3)>,
 }
 
+impl Workspace {
+    /// The scored atoms' intermolecular energies (before the curl, in
+    /// scored order) of the last [`energies`] call.
+    pub fn inter_energy(&self) -> &[f64] {
+        &self.inter_energy
+    }
+}
+
 /// The intermolecular and intramolecular energies of a conformation
 /// (kcal/mol), each after the curl, before the torsion divisor.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -47,5 +47,5 @@ pub use function::{Scoring, curl, torsion_divisor};
 pub use ligand::{Conformation, Fragment, Gradient, Ligand, LigandError};
 pub use maps::{MapBox, MapField, Maps, MapsError, MapsJob};
 pub use receptor::Receptor;
-pub use report::{Donor, Evaluator, HBond, Score, score};
+pub use report::{Donor, Evaluator, HBond, Score, score, score_with_contributions};
 pub use settle::{Contacts, SettleOptions, Settled, settle};

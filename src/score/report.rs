@@ -22,7 +22,7 @@ use super::exact::Exact;
 use super::field::{Field, Workspace};
 use super::function::{CUTOFF2, MAX_TERMS, Scoring, curl, hbond_possible, torsion_divisor};
 use super::ligand::{Conformation, Ligand};
-use super::table::{fast_terms, index};
+use super::table::{Table, fast_terms, index};
 use crate::chem::XsType;
 
 /// Which evaluator gave a score's totals.
@@ -148,11 +148,43 @@ pub fn score<F: Field + ?Sized>(
     lig: &Ligand,
     conf: &Conformation,
 ) -> Score {
+    score_collecting(field, evaluator, exact, lig, conf, None)
+}
+
+/// [`score`], and each receptor atom's share of the intermolecular energy
+/// (as [`super::contrib::receptor_contributions`] gives it, to the bit),
+/// collected during the score's own walk over the pairs.
+pub fn score_with_contributions<F: Field + ?Sized>(
+    field: &F,
+    evaluator: Evaluator,
+    exact: &Exact<'_>,
+    lig: &Ligand,
+    conf: &Conformation,
+) -> (Score, Vec<(u32, f64)>) {
+    let mut pairs = Vec::new();
+    let s = score_collecting(field, evaluator, exact, lig, conf, Some(&mut pairs));
+    (s, super::contrib::merge(pairs))
+}
+
+/// [`score`]; with `pairs`, each receptor–drug pair's table energy
+/// `(receptor atom, energy)` too, in the walk's order.
+fn score_collecting<F: Field + ?Sized>(
+    field: &F,
+    evaluator: Evaluator,
+    exact: &Exact<'_>,
+    lig: &Ligand,
+    conf: &Conformation,
+    mut pairs: Option<&mut Vec<(u32, f64)>>,
+) -> Score {
     let scoring = exact.scoring();
+    let table = Table::of(scoring);
     let nt = scoring.term_count();
     let mut ws = Workspace::default();
     let energies = super::field::energies(field, lig, conf, &mut ws);
-    let x = ws.positions;
+    let x = std::mem::take(&mut ws.positions);
+    // Each scored atom's intermolecular energy before the curl, as `field`
+    // gave it for the total.
+    let inter_energy = ws.inter_energy();
     let receptor = exact.receptor();
     let mut terms: Vec<TermScore> = (0..nt)
         .map(|k| TermScore {
@@ -166,17 +198,26 @@ pub fn score<F: Field + ?Sized>(
         .collect();
     let mut atoms = Vec::with_capacity(lig.scored.len());
     let mut hbonds = Vec::new();
-    for (&i, &t) in lig.scored.iter().zip(&lig.xs) {
+    for (at, (&i, &t)) in lig.scored.iter().zip(&lig.xs).enumerate() {
         let xi = x[i as usize];
         let mut raw = [0.0; MAX_TERMS];
+        let rows = table.fast_rows(t);
         exact.neighbours(xi, |j, r2| {
             let u = receptor.xs[j];
+            if let Some(p) = pairs.as_deref_mut() {
+                p.push((receptor.source[j], rows[u.index()][index(r2)]));
+            }
             let f = fast_terms(scoring, t, u, r2);
             for k in 0..nt {
                 raw[k] += f[k];
             }
-            let r = r2.sqrt();
-            if hbond_possible(t, u) && r < scoring.radius(t) + scoring.radius(u) {
+            // The distance only for pairs that can H-bond.
+            let r = if hbond_possible(t, u) {
+                r2.sqrt()
+            } else {
+                f64::INFINITY
+            };
+            if r < scoring.radius(t) + scoring.radius(u) {
                 let donor = match (
                     t.is_donor() && u.is_acceptor(),
                     u.is_donor() && t.is_acceptor(),
@@ -200,7 +241,7 @@ pub fn score<F: Field + ?Sized>(
         atoms.push(AtomScore {
             atom: i,
             xs: t,
-            inter: curl(field.atom_energy(t, xi)),
+            inter: curl(inter_energy.get(at).copied().unwrap_or(0.0)),
             terms: (0..nt).map(|k| scoring.weight(k) * raw[k]).collect(),
         });
     }

@@ -23,9 +23,9 @@ use super::torsion::Flex;
 use super::{Body, Role};
 use crate::model::element::is_hydrogen;
 use crate::motion::Pose;
-use crate::score::contrib::receptor_contributions;
 use crate::score::{
-    Conformation, Evaluator, Exact, Ligand, Receptor, Score, Scoring, prepare, score,
+    Conformation, Evaluator, Exact, Ligand, Receptor, Score, Scoring, prepare,
+    score_with_contributions,
 };
 
 /// One frame's score of the drug against the receptor.
@@ -38,7 +38,7 @@ pub struct LiveScore {
     /// The score: totals, terms, the drug's atoms, the hydrogen bonds.
     pub score: Score,
     /// `(receptor atom, energy)` for the receptor atoms within 8 Å of the
-    /// drug ([`receptor_contributions`]).
+    /// drug ([`crate::score::contrib::receptor_contributions`]).
     pub receptor_atoms: Vec<(u32, f64)>,
     /// The drug's rotatable bonds.
     pub rotatable: usize,
@@ -263,9 +263,9 @@ impl LiveScoring {
             pose: rel,
             torsions: torsions_of(flex, d, &p.ligand),
         };
-        let s = score(&exact, Evaluator::Exact, &exact, &p.ligand, &conf);
+        let (s, receptor_atoms) =
+            score_with_contributions(&exact, Evaluator::Exact, &exact, &p.ligand, &conf);
         let x = p.ligand.place(&conf);
-        let receptor_atoms = receptor_contributions(&exact, &p.ligand, &x);
         let file = bodies[r].loaded.inverse().compose(&bodies[d].loaded);
         let reference = match &self.pinned {
             Some((pose, torsions)) => p.ligand.place(&Conformation {
