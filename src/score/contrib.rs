@@ -43,17 +43,10 @@ pub fn receptor_contributions(exact: &Exact<'_>, lig: &Ligand, x: &[DVec3]) -> V
 
 /// The pair energies `(receptor atom, energy)` summed per receptor atom, in
 /// receptor-atom order; each atom's pairs are added in the order given.
-pub(super) fn merge(sums: Vec<(u32, f64)>) -> Vec<(u32, f64)> {
-    // Sorted by atom, then by place in `sums`: the order of a stable sort.
-    let mut keyed: Vec<(u64, f64)> = sums
-        .into_iter()
-        .zip(0u64..)
-        .map(|((a, e), k)| ((u64::from(a) << 32) | k, e))
-        .collect();
-    keyed.sort_unstable_by_key(|s| s.0);
+pub(super) fn merge(mut sums: Vec<(u32, f64)>) -> Vec<(u32, f64)> {
+    sums.sort_by_key(|s| s.0);
     let mut out: Vec<(u32, f64)> = Vec::new();
-    for (key, e) in keyed {
-        let a = (key >> 32) as u32;
+    for (a, e) in sums {
         match out.last_mut() {
             Some(last) if last.0 == a => last.1 += e,
             _ => out.push((a, e)),
