@@ -666,7 +666,13 @@ impl SphereRenderer {
         else {
             return false;
         };
-        let Some(drug) = self.atoms.get(base..base + local.len()) else {
+        // The renderer's own count of the drug's atoms must be the shape's:
+        // a renderer made for another session draws no ghost.
+        let end = self.offsets.get(d + 1).copied().unwrap_or(self.atoms.len());
+        if end.checked_sub(base) != Some(local.len()) {
+            return false;
+        }
+        let Some(drug) = self.atoms.get(base..end) else {
             return false;
         };
         // The drug's atoms (radii as drawn now) at the reference's places.
