@@ -274,7 +274,7 @@ fn top_bar(ui: &mut egui::Ui, session: &Session, hud: &mut HudState, cmds: &mut 
     }
     if ui
         .button("Settle")
-        .on_hover_text("minimise the drug's Vina score from here (Shift+G)")
+        .on_hover_text("minimise the drug's Vina score from here (G)")
         .clicked()
     {
         cmds.push(Command::Settle);

@@ -281,7 +281,7 @@ pub const TABLE: &[Entry] = &[
         "put the selected molecule back where it was loaded",
     ),
     row(
-        &[(K::KeyG, N)],
+        &[(K::KeyG, Mods::SHIFT)],
         S(Command::CentreOnDrug),
         "centre the view on the drug",
     ),
@@ -343,7 +343,7 @@ pub const TABLE: &[Entry] = &[
         "torsion mode on/off: the joystick's rotation turns the selected rotatable bond (Alt+drag turns it with the mouse)",
     ),
     row(
-        &[(K::KeyG, Mods::SHIFT)],
+        &[(K::KeyG, N)],
         S(Command::Settle),
         "settle the drug: a local minimisation of its Vina score over pose and torsions that ends free of overlaps (undoable)",
     ),
@@ -718,6 +718,19 @@ mod tests {
         assert_eq!(
             lookup(K::KeyV, Mods::SHIFT),
             Some((S(Command::FitAll), None))
+        );
+    }
+
+    /// G settles the drug; Shift+G centres the view on it.
+    #[test]
+    fn g_settles_and_shift_g_centres_on_the_drug() {
+        assert_eq!(
+            lookup(K::KeyG, Mods::NONE),
+            Some((S(Command::Settle), None))
+        );
+        assert_eq!(
+            lookup(K::KeyG, Mods::SHIFT),
+            Some((S(Command::CentreOnDrug), None))
         );
     }
 

@@ -30,7 +30,7 @@ pub struct SteerArgs {
     /// angle (either way, seeded) and is steered back 5° a frame at most.
     #[arg(long)]
     flexible: bool,
-    /// Settle after the run (the session's settle, as key Shift+G).
+    /// Settle after the run (the session's settle, as key G).
     #[arg(long)]
     settle: bool,
     /// Seed of the start's torsion turns (with --flexible).
