@@ -3,7 +3,7 @@
 //
 // A stick joins two atoms of the sphere renderer's atom buffer (group 0,
 // the same bindings as spheres.wgsl: frame uniform, atoms, model-views,
-// highlight bits), so it follows its molecules' model-view matrices and
+// highlight levels), so it follows its molecules' model-view matrices and
 // its atoms' colours (element, contribution, contact highlight) with no
 // upload of its own. It covers the part t0..t1 of the segment from atom a
 // to atom b: a whole bond is 0..1, a dash of a hydrogen bond a piece of
@@ -60,6 +60,25 @@ struct Stick {
 @group(0) @binding(1) var<storage, read> atoms: array<Atom>;
 @group(0) @binding(2) var<storage, read> model_view: array<mat4x4<f32>>;
 @group(0) @binding(3) var<storage, read> highlight: array<u32>;
+
+// The shown colour of an atom of colour `base` at highlight level `level`
+// (four bits an atom, eight atoms a word): 0 none, 1 in contact (the
+// highlight colour), 2 to PRESS_LEVELS pressed into the soft band, graded
+// towards PRESSED_DEEP at the limit. Mirrors render::colors::contact_colour.
+const PRESS_LEVELS: u32 = 8u;
+const PRESSED_DEEP: vec3<f32> = vec3<f32>(1.0, 0.8, 0.0);
+
+fn highlight_level(i: u32) -> u32 {
+    return (highlight[i / 8u] >> (4u * (i % 8u))) & 15u;
+}
+
+fn contact_colour(base: vec3<f32>, level: u32) -> vec3<f32> {
+    if (level == 0u) {
+        return base;
+    }
+    let t = f32(min(level, PRESS_LEVELS) - 1u) / f32(PRESS_LEVELS - 1u);
+    return mix(frame.highlight.rgb, PRESSED_DEEP, t);
+}
 @group(1) @binding(0) var<storage, read> sticks: array<Stick>;
 
 override DEPTH_CUE: bool = false;
@@ -107,8 +126,7 @@ fn atom_view(i: u32) -> vec3<f32> {
 }
 
 fn atom_color(i: u32) -> vec3<f32> {
-    let lit = (highlight[i / 32u] >> (i % 32u)) & 1u;
-    return select(atoms[i].color_body.rgb, frame.highlight.rgb, lit == 1u);
+    return contact_colour(atoms[i].color_body.rgb, highlight_level(i));
 }
 
 @vertex

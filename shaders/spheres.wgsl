@@ -58,8 +58,27 @@ struct Atom {
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> atoms: array<Atom>;
 @group(0) @binding(2) var<storage, read> model_view: array<mat4x4<f32>>;
-// One bit per atom: in contact.
+// Four bits per atom, eight atoms a word: its highlight level.
 @group(0) @binding(3) var<storage, read> highlight: array<u32>;
+
+// The shown colour of an atom of colour `base` at highlight level `level`
+// (four bits an atom, eight atoms a word): 0 none, 1 in contact (the
+// highlight colour), 2 to PRESS_LEVELS pressed into the soft band, graded
+// towards PRESSED_DEEP at the limit. Mirrors render::colors::contact_colour.
+const PRESS_LEVELS: u32 = 8u;
+const PRESSED_DEEP: vec3<f32> = vec3<f32>(1.0, 0.8, 0.0);
+
+fn highlight_level(i: u32) -> u32 {
+    return (highlight[i / 8u] >> (4u * (i % 8u))) & 15u;
+}
+
+fn contact_colour(base: vec3<f32>, level: u32) -> vec3<f32> {
+    if (level == 0u) {
+        return base;
+    }
+    let t = f32(min(level, PRESS_LEVELS) - 1u) / f32(PRESS_LEVELS - 1u);
+    return mix(frame.highlight.rgb, PRESSED_DEEP, t);
+}
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 
 override DEPTH_CUE: bool = false;
@@ -90,8 +109,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let atom = atoms[ii];
     var body = u32(atom.color_body.w);
     var r = atom.pos_radius.w;
-    let lit = (highlight[ii / 32u] >> (ii % 32u)) & 1u;
-    out.color = select(atom.color_body.rgb, frame.highlight.rgb, lit == 1u);
+    out.color = contact_colour(atom.color_body.rgb, highlight_level(ii));
     if (GHOST) {
         body = u32(frame.ghost.w);
         r = r * 0.98;

@@ -319,8 +319,8 @@ fn highlight_changes_are_exactly_the_atoms_that_changed() {
     let mut changed: Vec<(usize, usize)> = hit
         .highlight_changes
         .iter()
-        .map(|&(k, i, on)| {
-            assert!(on);
+        .map(|&(k, i, level)| {
+            assert_eq!(level, 1, "touching, not pressed");
             (k, i)
         })
         .collect();
@@ -332,8 +332,8 @@ fn highlight_changes_are_exactly_the_atoms_that_changed() {
     let cleared: Vec<(usize, usize)> = away
         .highlight_changes
         .iter()
-        .map(|&(k, i, on)| {
-            assert!(!on);
+        .map(|&(k, i, level)| {
+            assert_eq!(level, 0);
             (k, i)
         })
         .collect();

@@ -264,7 +264,7 @@ fn uploads(headline: &mut Vec<String>) -> String {
     let after = off.spheres.upload_stats();
     let per = |a: u64, b: u64| (b - a) as f64 / f64::from(drawn.max(1));
     headline.push(format!(
-        "Moving the drug uploads {} bytes of atom data ({} frames drawn); {:.0} bytes of matrices and {:.1} bytes of highlight bits per frame",
+        "Moving the drug uploads {} bytes of atom data ({} frames drawn); {:.0} bytes of matrices and {:.1} bytes of highlight words per frame",
         after.atom_bytes - created.atom_bytes,
         drawn,
         per(created.matrix_bytes, after.matrix_bytes),
@@ -275,7 +275,7 @@ fn uploads(headline: &mut Vec<String>) -> String {
          creation; over {drawn} frames of the E moving towards the rings and back (collision on) \
          {} more bytes of atom data, {:.0} bytes of matrices per frame (one 64-byte matrix per \
          molecule plus the 96-byte frame uniform) and {:.1} bytes of highlight words per frame \
-         (only words whose contact bits changed).\n",
+         (only words whose atoms' highlight levels changed).\n",
         gpu.describe(),
         created.atom_bytes,
         after.atom_bytes - created.atom_bytes,

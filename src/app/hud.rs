@@ -231,6 +231,7 @@ fn top_bar(ui: &mut egui::Ui, session: &Session, hud: &mut HudState, cmds: &mut 
         {
             cmds.push(Command::SetSoftLimit(limit));
         }
+        press_legend(ui);
     }
     let mut object_space = s.space == Space::Object;
     if ui.checkbox(&mut object_space, "Object space").changed() {
@@ -304,7 +305,7 @@ fn torsion_controls(
         return;
     }
     if ui
-        .button("◀")
+        .button("<")
         .on_hover_text("previous rotatable bond (Shift+Tab)")
         .clicked()
     {
@@ -322,7 +323,7 @@ fn torsion_controls(
     };
     ui.monospace(text);
     if ui
-        .button("▶")
+        .button(">")
         .on_hover_text("next rotatable bond (Tab); ; and ' turn it")
         .clicked()
     {
@@ -398,6 +399,26 @@ fn contacts_box(ctx: &egui::Context, session: &Session) {
                     });
             });
         });
+}
+
+/// The soft band's colours, touching to the limit, as small squares
+/// (painted: the HUD's fonts have no square glyph).
+fn press_legend(ui: &mut egui::Ui) {
+    use crate::render::colors::contact_colour;
+    let side = ui.text_style_height(&egui::TextStyle::Body) * 0.7;
+    let levels = crate::session::PRESS_LEVELS;
+    let size = egui::vec2(side * f32::from(levels), side);
+    let (rect, response) = ui.allocate_exact_size(size, egui::Sense::hover());
+    for level in 1..=levels {
+        let [r, g, b] = contact_colour(level);
+        let x = rect.left() + side * f32::from(level - 1);
+        let cell = egui::Rect::from_min_size(egui::pos2(x, rect.top()), egui::vec2(side, side));
+        ui.painter()
+            .rect_filled(cell, 0.0, egui::Rgba::from_rgb(r, g, b));
+    }
+    response.on_hover_text(
+        "contact colours: magenta touching, graded by depth to yellow at the soft limit",
+    );
 }
 
 #[cfg(test)]

@@ -5,6 +5,20 @@
 /// Colour of atoms in contact (magenta: no element has it).
 pub const HIGHLIGHT: [f32; 3] = [1.0, 0.1, 0.9];
 
+/// Colour of a pair pressed to the `soft` limit; pressed atoms are graded
+/// from [`HIGHLIGHT`] towards it by depth ([`contact_colour`]).
+pub const PRESSED_DEEP: [f32; 3] = [1.0, 0.8, 0.0];
+
+/// The colour an atom in contact is drawn with at highlight `level`
+/// ([`crate::session::Session::highlight_level`]; at least 1): the
+/// highlight at 1, [`PRESSED_DEEP`] at [`crate::session::PRESS_LEVELS`], in
+/// equal steps between. The shaders' `contact_colour` computes the same.
+pub fn contact_colour(level: u8) -> [f32; 3] {
+    let top = crate::session::PRESS_LEVELS;
+    let t = f32::from(level.clamp(1, top) - 1) / f32::from(top - 1);
+    std::array::from_fn(|k| HIGHLIGHT[k] + t * (PRESSED_DEEP[k] - HIGHLIGHT[k]))
+}
+
 /// Background colour (linear RGB).
 pub const BACKGROUND: [f64; 3] = [0.02, 0.02, 0.035];
 
@@ -110,6 +124,34 @@ mod tests {
             let c = contribution(-0.05 * f64::from(i));
             assert!(1.0 - c[0] >= last);
             last = 1.0 - c[0];
+        }
+    }
+
+    /// The graded contact colours run from the highlight to the deep press,
+    /// and the shaders carry the same constants.
+    #[test]
+    fn pressed_contacts_are_graded_as_the_shaders_grade_them() {
+        assert_eq!(contact_colour(1), HIGHLIGHT);
+        assert_eq!(contact_colour(crate::session::PRESS_LEVELS), PRESSED_DEEP);
+        assert_eq!(contact_colour(200), PRESSED_DEEP);
+        // Green rises level by level: each deeper level is told apart.
+        for l in 1..crate::session::PRESS_LEVELS {
+            assert!(contact_colour(l + 1)[1] > contact_colour(l)[1]);
+        }
+        let deep = format!(
+            "const PRESSED_DEEP: vec3<f32> = vec3<f32>({:?}, {:?}, {:?});",
+            PRESSED_DEEP[0], PRESSED_DEEP[1], PRESSED_DEEP[2]
+        );
+        let levels = format!(
+            "const PRESS_LEVELS: u32 = {}u;",
+            crate::session::PRESS_LEVELS
+        );
+        for shader in [
+            include_str!("../../shaders/spheres.wgsl"),
+            include_str!("../../shaders/cylinders.wgsl"),
+        ] {
+            assert!(shader.contains(&deep), "{deep}");
+            assert!(shader.contains(&levels), "{levels}");
         }
     }
 }

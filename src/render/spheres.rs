@@ -2,8 +2,8 @@
 //!
 //! Buffers: atoms (local position, radius, colour, molecule; written once),
 //! one model-view matrix per molecule (rewritten each frame: a few bytes),
-//! one highlight bit per atom (only changed words rewritten), and a small
-//! uniform per eye (projection, eye offset, light, cue settings). One
+//! a four-bit highlight level per atom (only changed words rewritten), and
+//! a small uniform per eye (projection, eye offset, light, cue settings). One
 //! instanced draw call draws every atom of an eye. [`UploadStats`] counts
 //! what was written, so tests can check that moving a molecule uploads no
 //! atom data; [`FrameStats`] counts the passes and draws of the last frame,
@@ -86,6 +86,11 @@ pub fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Textu
         .create_view(&wgpu::TextureViewDescriptor::default())
 }
 
+/// Atoms per highlight word: each has four bits, its highlight level (0:
+/// none, 1: in contact, up to [`crate::session::PRESS_LEVELS`]: pressed
+/// into the soft band), read by the shaders' `contact_colour`.
+const HIGHLIGHTS_PER_WORD: usize = 8;
+
 /// Writes `items[i]` for every index in `dirty` (sorted, without repeats)
 /// to `buffer`, one write per contiguous run of indices; returns the bytes
 /// written.
@@ -114,7 +119,7 @@ fn write_runs<T: bytemuck::Pod>(
 }
 
 /// Bind group 0 of the sphere pipelines: the eye's uniform, the atoms,
-/// the model-view matrices and the highlight bits, in binding order.
+/// the model-view matrices and the highlight levels, in binding order.
 fn sphere_bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
@@ -195,7 +200,7 @@ pub struct UploadStats {
     pub atom_bytes: u64,
     /// Model-view matrices and the frame uniform.
     pub matrix_bytes: u64,
-    /// Highlight bits.
+    /// Highlight levels (four bits an atom).
     pub highlight_bytes: u64,
     /// Atom colours rewritten (colour by contribution).
     pub color_bytes: u64,
@@ -285,7 +290,7 @@ impl SphereRenderer {
         if atoms.is_empty() {
             atoms.push(GpuAtom::zeroed()); // a binding may not be empty
         }
-        let words = vec![0u32; atoms.len().div_ceil(32)];
+        let words = vec![0u32; atoms.len().div_ceil(HIGHLIGHTS_PER_WORD)];
         let atom_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("atoms"),
             contents: bytemuck::cast_slice(&atoms),
@@ -443,25 +448,23 @@ impl SphereRenderer {
         self.stats.matrix_bytes += std::mem::size_of::<FrameUniform>() as u64;
     }
 
-    /// Applies highlight changes `(molecule, atom, in contact)`, rewriting
-    /// only the 32-bit words that changed.
-    pub fn apply_highlights(&mut self, queue: &wgpu::Queue, changes: &[(usize, usize, bool)]) {
+    /// Applies highlight changes `(molecule, atom, level)` (levels as
+    /// [`Session::highlight_level`] gives them), rewriting only the 32-bit
+    /// words that changed.
+    pub fn apply_highlights(&mut self, queue: &wgpu::Queue, changes: &[(usize, usize, u8)]) {
         let mut dirty: Vec<usize> = Vec::new();
-        for &(body, atom, on) in changes {
+        for &(body, atom, level) in changes {
             let Some(&base) = self.offsets.get(body) else {
                 continue;
             };
             let i = base + atom;
-            let Some(word) = self.words.get_mut(i / 32) else {
+            let Some(word) = self.words.get_mut(i / HIGHLIGHTS_PER_WORD) else {
                 continue;
             };
-            let bit = 1u32 << (i % 32);
-            if on {
-                *word |= bit;
-            } else {
-                *word &= !bit;
-            }
-            dirty.push(i / 32);
+            let shift = 4 * (i % HIGHLIGHTS_PER_WORD);
+            let level = u32::from(level.min(crate::session::PRESS_LEVELS));
+            *word = (*word & !(0xF << shift)) | (level << shift);
+            dirty.push(i / HIGHLIGHTS_PER_WORD);
         }
         dirty.sort_unstable();
         dirty.dedup();
@@ -639,7 +642,7 @@ impl SphereRenderer {
         let mut changes = Vec::new();
         for (k, b) in session.bodies().iter().enumerate() {
             for i in 0..b.molecule.len() {
-                changes.push((k, i, session.is_highlighted(k, i)));
+                changes.push((k, i, session.highlight_level(k, i)));
             }
         }
         self.apply_highlights(queue, &changes);

@@ -395,28 +395,44 @@ impl Session {
         self.set_contacts(contacts, out);
     }
 
-    /// Replaces the contact list, reporting highlight changes and new contacts.
+    /// Grades the highlights again (the response or the soft limit changed).
+    pub(super) fn regrade_contacts(&mut self, out: &mut FrameOutcome) {
+        let contacts = self.contacts.clone();
+        self.set_contacts(contacts, out);
+    }
+
     /// Replaces the contact list, reporting highlight changes and new
     /// contacts. Work is proportional to the contacts, not to the atoms: only
     /// atoms in the old or the new list can change.
     pub(super) fn set_contacts(&mut self, contacts: Vec<Contact>, out: &mut FrameOutcome) {
-        use std::collections::BTreeSet;
+        use std::collections::{BTreeMap, BTreeSet};
         let key = |c: &Contact| (c.moving, c.other);
         let old: BTreeSet<_> = self.contacts.iter().map(key).collect();
         out.new_contact |= contacts.iter().any(|c| !old.contains(&key(c)));
-        let atoms = |list: &[Contact]| -> BTreeSet<(usize, usize)> {
-            list.iter().flat_map(|c| [c.moving, c.other]).collect()
-        };
-        let was = atoms(&self.contacts);
-        let now = atoms(&contacts);
+        // Under `soft`, each atom is graded by its deepest pair.
+        let limit = (self.settings.response == Response::Soft).then_some(self.settings.soft_limit);
+        let mut now: BTreeMap<(usize, usize), u8> = BTreeMap::new();
+        for c in &contacts {
+            let level = super::press_level(c.depth(), limit);
+            for atom in [c.moving, c.other] {
+                let l = now.entry(atom).or_insert(0);
+                *l = (*l).max(level);
+            }
+        }
+        let was: BTreeSet<(usize, usize)> = self
+            .contacts
+            .iter()
+            .flat_map(|c| [c.moving, c.other])
+            .collect();
         // Sorted (molecule, atom) order keeps the change list deterministic.
-        for &(k, i) in was.union(&now) {
-            let on = now.contains(&(k, i));
-            if let Some(flag) = self.highlighted.get_mut(k).and_then(|h| h.get_mut(i))
-                && *flag != on
+        let atoms: BTreeSet<(usize, usize)> = was.into_iter().chain(now.keys().copied()).collect();
+        for (k, i) in atoms {
+            let level = now.get(&(k, i)).copied().unwrap_or(0);
+            if let Some(l) = self.highlighted.get_mut(k).and_then(|h| h.get_mut(i))
+                && *l != level
             {
-                *flag = on;
-                out.highlight_changes.push((k, i, on));
+                *l = level;
+                out.highlight_changes.push((k, i, level));
             }
         }
         if !out.highlight_changes.is_empty() {
@@ -432,6 +448,7 @@ mod tests {
     use super::*;
     use crate::model::{RadiiSet, builtin};
     use crate::session::{Command, FrameInput, Settings};
+    use std::collections::BTreeMap;
 
     /// One frame moving the selected molecule (object mode) by `v`.
     fn nudge(s: &mut Session, v: DVec3) {
@@ -521,5 +538,84 @@ mod tests {
             shallow <= 0.25 + 1e-4 && shallow > 0.1,
             "pressed {shallow} Å"
         );
+    }
+
+    /// Under `soft`, every atom in contact shows the level of its deepest
+    /// pair; changing the response or the limit grades them again.
+    #[test]
+    fn pressed_atoms_are_graded_by_their_deepest_pair() {
+        use crate::session::{PRESS_LEVELS, press_level};
+        let (rings, e) = builtin::scene(RadiiSet::Bondi);
+        let mut s = Session::new(vec![rings, e], Settings::default()).expect("session");
+        s.step(&FrameInput::docking(), 0.0);
+        s.step(
+            &FrameInput::with_commands(&[Command::SetResponse(Response::Soft)]),
+            0.0,
+        );
+        let towards = s.bodies[0].pose.translation - s.bodies[1].pose.translation;
+        for _ in 0..300 {
+            s.step(
+                &FrameInput::nudged(towards.normalize() * 0.25, DVec3::ZERO),
+                0.0,
+            );
+        }
+        let levels = |s: &Session| -> BTreeMap<(usize, usize), u8> {
+            let mut want = BTreeMap::new();
+            let limit = (s.settings.response == Response::Soft).then_some(s.settings.soft_limit);
+            for c in s.contacts() {
+                for a in [c.moving, c.other] {
+                    let l = want.entry(a).or_insert(0);
+                    *l = (*l).max(press_level(c.depth(), limit));
+                }
+            }
+            want
+        };
+        let want = levels(&s);
+        assert!(!want.is_empty());
+        assert!(
+            want.values().any(|&l| l >= PRESS_LEVELS - 1),
+            "pressed near the limit: {want:?}"
+        );
+        let shown = |s: &Session| -> BTreeMap<(usize, usize), u8> {
+            let mut m = BTreeMap::new();
+            for (k, b) in s.bodies.iter().enumerate() {
+                for i in 0..b.molecule.len() {
+                    if s.highlight_level(k, i) > 0 {
+                        m.insert((k, i), s.highlight_level(k, i));
+                    }
+                }
+            }
+            m
+        };
+        assert_eq!(shown(&s), want);
+        // A deeper limit: the same depths are a smaller share of it.
+        let out = s.step(
+            &FrameInput::with_commands(&[Command::SetSoftLimit(3.0)]),
+            0.0,
+        );
+        assert!(!out.highlight_changes.is_empty());
+        assert_eq!(shown(&s), levels(&s));
+        assert!(shown(&s).values().all(|&l| l < PRESS_LEVELS - 1));
+        // Another response: every contact is one colour again.
+        let out = s.step(
+            &FrameInput::with_commands(&[Command::SetResponse(Response::Slide)]),
+            0.0,
+        );
+        assert!(out.highlight_changes.iter().all(|c| c.2 == 1));
+        assert!(shown(&s).values().all(|&l| l == 1));
+        assert_eq!(shown(&s).len(), want.len());
+    }
+
+    #[test]
+    fn press_levels_step_evenly_through_the_band() {
+        use crate::session::{PRESS_LEVELS, press_level};
+        assert_eq!(press_level(0.0, Some(1.0)), 1);
+        assert_eq!(press_level(0.3, None), 1);
+        assert_eq!(press_level(0.3, Some(0.0)), 1);
+        assert_eq!(press_level(f32::NAN, Some(1.0)), 1);
+        assert_eq!(press_level(1e-6, Some(1.0)), 2);
+        assert_eq!(press_level(1.0 / 7.0 + 1e-3, Some(1.0)), 3);
+        assert_eq!(press_level(1.0, Some(1.0)), PRESS_LEVELS);
+        assert_eq!(press_level(2.5, Some(1.0)), PRESS_LEVELS);
     }
 }

@@ -55,7 +55,10 @@ impl Session {
                     self.set_contacts(Vec::new(), out);
                 }
             }
-            Command::SetResponse(r) => self.settings.response = r,
+            Command::SetResponse(r) => {
+                self.settings.response = r;
+                self.regrade_contacts(out);
+            }
             Command::CycleResponse => {
                 let all = Response::ALL;
                 let k = all
@@ -63,6 +66,7 @@ impl Session {
                     .position(|r| *r == self.settings.response)
                     .unwrap_or(0);
                 self.settings.response = all[(k + 1) % all.len()];
+                self.regrade_contacts(out);
             }
             Command::ToggleSpace => {
                 self.settings.space = match self.settings.space {
@@ -180,6 +184,7 @@ impl Session {
         }
         let limit = limit.clamp(0.0, crate::collide::soft::MAX_LIMIT);
         self.settings.soft_limit = limit;
+        self.regrade_contacts(out);
         out.messages.push(format!("soft limit {limit:.2} Å"));
     }
 

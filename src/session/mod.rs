@@ -155,6 +155,25 @@ impl Contact {
     }
 }
 
+/// The highest highlight level: a pair pressed to the `soft` limit (or
+/// beyond it, in a pose loaded that way).
+pub const PRESS_LEVELS: u8 = 8;
+
+/// The highlight level of a contact pressed `depth` Å past the contact
+/// rule: 1 when it only touches or `limit` is not positive (not `soft`),
+/// else 2 to [`PRESS_LEVELS`] in equal steps of the band up to `limit`.
+pub fn press_level(depth: f32, limit: Option<f64>) -> u8 {
+    let Some(limit) = limit.filter(|l| *l > 0.0) else {
+        return 1;
+    };
+    if depth.is_nan() || depth <= 0.0 {
+        return 1;
+    }
+    let steps = f64::from(PRESS_LEVELS - 1);
+    let k = (f64::from(depth) / limit * steps).ceil().clamp(1.0, steps);
+    1 + k as u8
+}
+
 /// What one frame did.
 #[derive(Debug, Clone, Default)]
 pub struct FrameOutcome {
@@ -168,8 +187,9 @@ pub struct FrameOutcome {
     pub contacts: Vec<Contact>,
     /// A contact began that was not there the frame before (beep, flash).
     pub new_contact: bool,
-    /// Atoms whose highlight changed: (molecule, atom, now in contact).
-    pub highlight_changes: Vec<(usize, usize, bool)>,
+    /// Atoms whose highlight changed: (molecule, atom, its level now; see
+    /// [`Session::highlight_level`]).
+    pub highlight_changes: Vec<(usize, usize, u8)>,
     /// The `soft` response's resistance at the new pose, in [0, 1) (0 for
     /// the other responses): what a controller's rumble follows.
     pub resistance: f64,
@@ -236,7 +256,8 @@ pub struct Session {
     /// radius they were set up against), once built.
     moving_atoms: Vec<Option<(f32, Arc<DrugAtoms>)>>,
     /// Per molecule, per atom: in contact now.
-    highlighted: Vec<Vec<bool>>,
+    /// Per molecule, each atom's highlight level ([`Session::highlight_level`]).
+    highlighted: Vec<Vec<u8>>,
     contacts: Vec<Contact>,
     rock: Rock,
     /// The motion keys held and their clock.
@@ -289,10 +310,7 @@ impl Session {
             .collect();
         let (centre, radius) = framing::bounds(&bodies).unwrap_or((DVec3::ZERO, 1.0));
         let camera = Camera::framing(centre, radius);
-        let highlighted = bodies
-            .iter()
-            .map(|b| vec![false; b.molecule.len()])
-            .collect();
+        let highlighted = bodies.iter().map(|b| vec![0; b.molecule.len()]).collect();
         let selected = bodies.len().saturating_sub(1);
         let own_colliders = vec![None; bodies.len()];
         let moving_atoms = vec![None; bodies.len()];
@@ -401,7 +419,7 @@ impl Session {
     /// and selects it.
     pub fn add_molecule(&mut self, molecule: Molecule) {
         let pose = Pose::from_translation(molecule.centre);
-        self.highlighted.push(vec![false; molecule.len()]);
+        self.highlighted.push(vec![0; molecule.len()]);
         self.roles.push(Role::of(&molecule));
         self.flex.push(torsion::Flex::of(&molecule));
         self.bodies.push(Body {
@@ -490,11 +508,19 @@ impl Session {
 
     /// Whether atom `atom` of molecule `body` is highlighted as in contact.
     pub fn is_highlighted(&self, body: usize, atom: usize) -> bool {
+        self.highlight_level(body, atom) > 0
+    }
+
+    /// The highlight level of atom `atom` of molecule `body`: 0 when it is
+    /// in no contact, 1 when it touches (or presses, under a response other
+    /// than `soft`), and under `soft` 2 to [`PRESS_LEVELS`] by how deep its
+    /// deepest pair presses into the band, in equal steps up to the limit.
+    pub fn highlight_level(&self, body: usize, atom: usize) -> u8 {
         self.highlighted
             .get(body)
             .and_then(|h| h.get(atom))
             .copied()
-            .unwrap_or(false)
+            .unwrap_or(0)
     }
 
     /// The undo history.
