@@ -385,6 +385,11 @@ fn contacts_box(ctx: &egui::Context, session: &Session) {
                             ui.strong(h);
                         }
                         ui.end_row();
+                        // Under soft, a pressed pair's overlap takes its
+                        // atoms' graded colour.
+                        let settings = session.settings();
+                        let limit =
+                            (settings.response == Response::Soft).then_some(settings.soft_limit);
                         for c in contacts.iter().take(200) {
                             let a = &session.bodies()[c.moving.0].molecule.atoms[c.moving.1];
                             let b = &session.bodies()[c.other.0].molecule.atoms[c.other.1];
@@ -393,7 +398,14 @@ fn contacts_box(ctx: &egui::Context, session: &Session) {
                             ui.monospace(labels::residue(b));
                             ui.monospace(b.name.trim());
                             ui.monospace(format!("{:.2}", c.distance));
-                            ui.monospace(format!("{overlap:+.2}"));
+                            let mut text =
+                                egui::RichText::new(format!("{overlap:+.2}")).monospace();
+                            let level = crate::session::press_level(c.depth(), limit);
+                            if level > 1 {
+                                let [r, g, b] = crate::render::colors::contact_colour(level);
+                                text = text.color(egui::Rgba::from_rgb(r, g, b));
+                            }
+                            ui.label(text);
                             ui.end_row();
                         }
                     });
