@@ -34,6 +34,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use bump::input::JoystickMap;
+use bump::model::mol2::parse_mol2;
 use bump::model::pdb::{Format, parse_bytes};
 use bump::model::sdf::parse_sdf;
 use bump::model::{LigandSpec, LoadOptions, receptor_only, split_complex};
@@ -181,6 +182,21 @@ fn read_sdf(bytes: &[u8]) -> Result<(), String> {
         ..opts()
     };
     let _ = parse_sdf(&text, "fuzz.sdf", &second);
+    first.map(|_| ())
+}
+
+/// As `model::load` reads a MOL2 file: the first molecule, or another.
+fn read_mol2(bytes: &[u8]) -> Result<(), String> {
+    let text = TextSource::from_bytes(bytes, FUZZ_DECOMPRESSED_LIMIT)
+        .read_all()
+        .map_err(|e| e.to_string())?;
+    let text = String::from_utf8_lossy(&text);
+    let first = parse_mol2(&text, "fuzz.mol2", &opts()).map_err(|e| e.to_string());
+    let second = LoadOptions {
+        sdf_record: Some(2),
+        ..opts()
+    };
+    let _ = parse_mol2(&text, "fuzz.mol2", &second);
     first.map(|_| ())
 }
 
@@ -398,6 +414,11 @@ $$$$
 /// unit test).
 const SDF_V3000_SEED: &str = include_str!("data/v3000_continuation.sdf");
 
+const MOL2_SEED: &str = include_str!("data/amidine.mol2");
+
+#[path = "common/mol2.rs"]
+mod mol2_text;
+
 /// A short session log, its lines checked.
 fn log_seed() -> Vec<u8> {
     let mut text = b"bump-log 2\n# a comment\nmeta file x.pdb\n".to_vec();
@@ -443,8 +464,10 @@ fn readers() -> Vec<Reader> {
             cif.push(cif_slice(&text, rows));
         }
     }
+    let mut mol2 = vec![MOL2_SEED.as_bytes().to_vec()];
     for file in ["benzamidine_3ptb.sdf", "trimethoprim_top_6xg5pose.sdf"] {
         if let Some(text) = read_shared(file) {
+            mol2.push(mol2_text::from_sdf(&String::from_utf8_lossy(&text)).into_bytes());
             v2000.push(text);
         }
     }
@@ -500,6 +523,12 @@ fn readers() -> Vec<Reader> {
             name: "sdf-v3000",
             seeds: vec![SDF_V3000_SEED.as_bytes().to_vec()],
             read: read_sdf,
+            repair: None,
+        },
+        Reader {
+            name: "mol2",
+            seeds: mol2,
+            read: read_mol2,
             repair: None,
         },
         Reader {

@@ -273,3 +273,58 @@ fn a_drug_that_cannot_be_perceived_is_scored_with_a_warning_naming_the_atom() {
         }
     }
 }
+
+/// A drug read from MOL2 scores exactly as the same drug read from SDF:
+/// every shared SDF, each against a shared receptor.
+#[test]
+fn a_mol2_drug_scores_as_its_sdf() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let tmp = tempdir("mol2");
+    for (receptor, drug) in [
+        ("1s3v_protein.pdb", "1s3v_ligand_tqd.sdf"),
+        ("6xg5_tmp_prepared.pdb", "trimethoprim_top_6xg5pose.sdf"),
+        ("1s3v_protein.pdb", "benzamidine_3ptb.sdf"),
+        ("1s3v_protein.pdb", "methotrexate_mtx_ideal.sdf"),
+    ] {
+        let sdf_path = dir.join(drug);
+        let text = std::fs::read_to_string(&sdf_path).unwrap();
+        let mol2 = tmp.join(drug.replace(".sdf", ".mol2"));
+        std::fs::write(&mol2, common::mol2::from_sdf(&text)).unwrap();
+        let rec = dir.join(receptor).display().to_string();
+        let a = json(&["score", &rec, &sdf_path.display().to_string(), "--json"]);
+        let b = json(&["score", &rec, &mol2.display().to_string(), "--json"]);
+        for k in ["total", "inter", "intra", "coulomb", "torsion_count"] {
+            assert_eq!(a[k], b[k], "{drug}: {k}");
+        }
+        assert_eq!(a["rotatable_bonds"], b["rotatable_bonds"], "{drug}");
+        // The same bonds (the drug's residue is named by each file).
+        let hbonds = |v: &Value| -> Vec<Value> {
+            v["hbonds"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|h| {
+                    serde_json::json!([
+                        h["donor"]["serial"],
+                        h["acceptor"]["serial"],
+                        h["distance"],
+                        h["energy"]
+                    ])
+                })
+                .collect()
+        };
+        assert_eq!(hbonds(&a), hbonds(&b), "{drug}");
+        assert!(!hbonds(&a).is_empty() || drug != "1s3v_ligand_tqd.sdf");
+        let types = |v: &Value| -> Vec<Value> {
+            v["atoms"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x["vina_type"].clone())
+                .collect()
+        };
+        assert_eq!(types(&a), types(&b), "{drug}");
+    }
+}

@@ -6,7 +6,9 @@
 use std::path::{Path, PathBuf};
 
 /// Extensions bump reads (optionally followed by `.gz`).
-const READABLE: &[&str] = &[".pdb", ".ent", ".cif", ".mmcif", ".sdf", ".sd", ".mol"];
+const READABLE: &[&str] = &[
+    ".pdb", ".ent", ".cif", ".mmcif", ".sdf", ".sd", ".mol", ".mol2",
+];
 
 /// True when `name` looks like a structure file bump reads.
 pub fn is_readable(name: &str) -> bool {

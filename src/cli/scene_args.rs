@@ -23,14 +23,14 @@ pub struct SceneArgs {
     /// --ligand, or `builtin` (the default) for the thesis's triple ring and E.
     #[arg(default_value = "builtin")]
     pub receptor: String,
-    /// Drug file (SDF, PDB or mmCIF). Without it the drug is split from the
+    /// Drug file (SDF, MOL2, PDB or mmCIF). Without it the drug is split from the
     /// receptor file with --ligand (default: auto).
     pub drug: Option<PathBuf>,
     /// Drug residue in the receptor file: RESNAME, RESNAME:CHAIN:SEQ or auto
     /// (SEQ may end in an insertion code, as in 52A).
     #[arg(long)]
     pub ligand: Option<String>,
-    /// SDF record to read from the drug file (1-based).
+    /// SDF record (or MOL2 molecule) to read from the drug file (1-based).
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_whole)]
     pub record: Option<usize>,
     /// Radius table: bondi (Bondi 1964, Mantina 2009) or thesis (Turk 1989).
@@ -243,7 +243,7 @@ impl SceneArgs {
     pub fn load(&self) -> anyhow::Result<LoadedScene> {
         let rule = self.rule()?;
         if self.record.is_some() && self.drug.is_none() {
-            bail!("--record picks a record of an SDF drug file; no drug file was given");
+            bail!("--record picks a record of an SDF or MOL2 drug file; no drug file was given");
         }
         let (receptor, drug, drug_source) = if self.receptor == "builtin" {
             if self.drug.is_some() || self.ligand.is_some() {

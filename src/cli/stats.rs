@@ -12,7 +12,7 @@ use super::scene_args::{parse_f32, parse_hydrogens, parse_radii, parse_whole};
 /// Arguments of `bump stats`.
 #[derive(Debug, Args)]
 pub struct StatsArgs {
-    /// Structure files (PDB, mmCIF, SDF; .gz allowed). Waters are left out.
+    /// Structure files (PDB, mmCIF, SDF, MOL2; .gz allowed). Waters are left out.
     #[arg(required = true)]
     files: Vec<PathBuf>,
     /// Cell edge in Å (default: the diameter of the largest atom, as the thesis).

@@ -12,6 +12,7 @@ pub mod builtin;
 pub mod element;
 pub mod error;
 pub mod label;
+pub mod mol2;
 pub mod molecule;
 pub mod pdb;
 pub mod sdf;
@@ -51,8 +52,9 @@ pub struct LoadOptions {
     pub radii: RadiiSet,
     /// Keep or drop hydrogens.
     pub hydrogens: Hydrogens,
-    /// For SDF files: which record (1-based); the first when `None`. Other
-    /// formats have no records and refuse one ([`LoadError::NotRecords`]).
+    /// For SDF and MOL2 files: which record (molecule, 1-based); the first
+    /// when `None`. Other formats have no records and refuse one
+    /// ([`LoadError::NotRecords`]).
     pub sdf_record: Option<usize>,
     /// Most bytes a gzipped file may decompress to; past it the file is
     /// refused ([`LoadError::TooLarge`]). `None`: the environment variable
@@ -135,7 +137,7 @@ pub struct FileChemistry {
     /// True when `bonds` holds every bond of the atoms with its order (an
     /// SDF bond block), so nothing need be perceived.
     pub bonds_complete: bool,
-    /// True for a small-molecule file (SDF/MOL).
+    /// True for a small-molecule file (SDF/MOL, MOL2).
     pub from_sdf: bool,
 }
 
@@ -177,8 +179,9 @@ pub struct Loaded {
     pub warnings: Vec<String>,
 }
 
-/// Reads a PDB, mmCIF (plain or gzipped) or SDF file, chosen by extension
-/// (`.pdb`, `.ent`, `.cif`, `.mmcif`, `.sdf`, `.mol`, each optionally `.gz`).
+/// Reads a PDB, mmCIF, SDF or MOL2 file (plain or gzipped), chosen by
+/// extension (`.pdb`, `.ent`, `.cif`, `.mmcif`, `.sdf`, `.mol`, `.mol2`,
+/// each optionally `.gz`).
 ///
 /// # Errors
 /// [`LoadError`] naming the file (and line, when known) for an unreadable file,
@@ -188,6 +191,8 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
     let stem = lower.strip_suffix(".gz").unwrap_or(&lower);
     let loaded = if stem.ends_with(".sdf") || stem.ends_with(".mol") || stem.ends_with(".sd") {
         sdf::load_sdf(path, opts)?
+    } else if stem.ends_with(".mol2") {
+        mol2::load_mol2(path, opts)?
     } else if stem.ends_with(".pdb")
         || stem.ends_with(".ent")
         || stem.ends_with(".cif")

@@ -132,7 +132,7 @@ pub struct Molecule {
     pub formal_charges: Vec<i8>,
     /// True when `file_bonds` holds every bond with its order (an SDF).
     pub bonds_complete: bool,
-    /// True when the molecule came from an SDF/MOL file.
+    /// True when the molecule came from a small-molecule file (SDF/MOL, MOL2).
     pub from_sdf: bool,
     /// The perceived chemistry, computed when first asked for. Set the
     /// fields above before that.

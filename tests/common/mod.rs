@@ -6,6 +6,7 @@
 #![allow(unused_imports)]
 
 pub mod cli;
+pub mod mol2;
 pub mod x11;
 
 pub use bump_testkit::oracle::{
