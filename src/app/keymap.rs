@@ -167,7 +167,7 @@ pub const TABLE: &[Entry] = &[
     row(
         &[(K::Space, N)],
         S(Command::ToggleMode),
-        "view mode ↔ object mode (what the motion keys move)",
+        "switch between view mode and object mode (what the motion keys move)",
     ),
     step(
         &[(K::ArrowLeft, N)],
@@ -257,7 +257,7 @@ pub const TABLE: &[Entry] = &[
     row(
         &[(K::KeyO, N)],
         S(Command::ToggleSpace),
-        "screen axes ↔ the molecule's own axes",
+        "switch between the screen's axes and the molecule's own axes",
     ),
     row(
         &[(K::KeyL, N)],
