@@ -414,7 +414,8 @@ fn contacts_box(ctx: &egui::Context, session: &Session) {
 }
 
 /// The soft band's colours, touching to the limit, as small squares
-/// (painted: the HUD's fonts have no square glyph).
+/// (painted rather than written: egui draws symbols such as ■ from its
+/// emoji font).
 fn press_legend(ui: &mut egui::Ui) {
     use crate::render::colors::contact_colour;
     let side = ui.text_style_height(&egui::TextStyle::Body) * 0.7;
