@@ -384,3 +384,100 @@ fn types_charges_and_torsions_agree_with_vina() {
         eprintln!("{line}");
     }
 }
+
+/// The receptor of a shared file, and a finder of its atoms by residue
+/// name, number and atom name.
+fn receptor_of(dir: &std::path::Path, file: &str) -> Molecule {
+    let loaded = model::load(&dir.join(file), &LoadOptions::default()).expect(file);
+    model::receptor_only(&loaded.structure).expect(file)
+}
+
+fn atom_of(mol: &Molecule, residue: &str, seq: i64, name: &str) -> Option<usize> {
+    mol.atoms
+        .iter()
+        .position(|a| a.residue.as_str() == residue && a.seq == seq && a.name.as_str() == name)
+}
+
+/// Nucleic acids read without hydrogens. Each phosphate is a neutral acid
+/// whose hydroxyl is the terminal oxygen with the larger z, as Open Babel
+/// chooses (the rule bump applies to Asp and Glu): all 22 phosphates of
+/// B-DNA 1bna. The modified nucleotides of tRNA-Phe (1ehz), which no
+/// template covers and whose bond orders come from their geometry, get
+/// their keto tautomers: the carbonyl oxygens accept and carry no
+/// hydrogen, the ring N beside them carries one; cytosines stay amino;
+/// wybutosine's N3 stays neutral and its N2 accepts.
+#[test]
+fn nucleic_acids_get_their_phosphates_and_keto_bases() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let dna = receptor_of(&dir, "1bna.pdb");
+    let c = dna.chemistry();
+    let mut phosphates = 0;
+    for (i, a) in dna.atoms.iter().enumerate() {
+        if a.name.as_str() != "OP1" {
+            continue;
+        }
+        let j = dna
+            .atoms
+            .iter()
+            .position(|b| b.chain == a.chain && b.seq == a.seq && b.name.as_str() == "OP2")
+            .expect("OP2");
+        let (hi, lo) = if dna.file_position(i).z > dna.file_position(j).z {
+            (i, j)
+        } else {
+            (j, i)
+        };
+        assert_eq!(
+            (c.xs[hi], c.hydrogen_count[hi]),
+            (Some(XsType::O_DA), 1),
+            "1bna {}",
+            a.seq
+        );
+        assert_eq!(
+            (c.xs[lo], c.hydrogen_count[lo]),
+            (Some(XsType::O_A), 0),
+            "1bna {}",
+            a.seq
+        );
+        phosphates += 1;
+    }
+    assert_eq!(phosphates, 22);
+
+    let trna = receptor_of(&dir, "1ehz.cif");
+    let c = trna.chemistry();
+    let expect = |residue: &str, seq: i64, name: &str, xs: XsType, h: u8| {
+        let i = atom_of(&trna, residue, seq, name)
+            .unwrap_or_else(|| panic!("1ehz {residue} {seq} {name} missing"));
+        assert_eq!(
+            (c.xs[i], c.hydrogen_count[i], c.formal_charges[i]),
+            (Some(xs), h, 0),
+            "1ehz {residue} {seq} {name}"
+        );
+    };
+    // Pseudouridines: N1–H and N3–H, two carbonyls.
+    for seq in [39, 55] {
+        expect("PSU", seq, "N1", XsType::N_D, 1);
+        expect("PSU", seq, "N3", XsType::N_D, 1);
+        expect("PSU", seq, "O2", XsType::O_A, 0);
+        expect("PSU", seq, "O4", XsType::O_A, 0);
+    }
+    // Ribothymidine.
+    expect("5MU", 54, "N3", XsType::N_D, 1);
+    expect("5MU", 54, "O4", XsType::O_A, 0);
+    // Guanosines methylated elsewhere: N1–H beside the O6 carbonyl.
+    for (residue, seq) in [("2MG", 10), ("M2G", 26), ("OMG", 34), ("7MG", 46)] {
+        expect(residue, seq, "N1", XsType::N_D, 1);
+        expect(residue, seq, "O6", XsType::O_A, 0);
+    }
+    // Methylated cytidines stay amino.
+    for (residue, seq) in [("OMC", 32), ("5MC", 40), ("5MC", 49)] {
+        expect(residue, seq, "N3", XsType::N_A, 0);
+        expect(residue, seq, "N4", XsType::N_D, 2);
+        expect(residue, seq, "O2", XsType::O_A, 0);
+    }
+    // Wybutosine.
+    expect("YYG", 37, "N2", XsType::N_A, 0);
+    expect("YYG", 37, "N3", XsType::N_P, 0);
+    expect("YYG", 37, "O6", XsType::O_A, 0);
+}

@@ -178,7 +178,7 @@ pub(crate) fn connect(
                 bonds.push(Bond::new(s + idx(p), s + idx(q), order_of(*order)));
             }
         }
-        for &(c, o1, o2) in carboxyls(t.kind, atoms[s as usize].residue.trim()) {
+        for &(c, o1, o2) in acid_groups(t.kind, atoms[s as usize].residue.trim()) {
             let find = |name: &str| names.iter().position(|nm| nm == name).map(|k| s + idx(k));
             if let (Some(c), Some(o1), Some(o2)) = (find(c), find(o1), find(o2)) {
                 place_acid_hydrogen(mol, explicit_h, &mut bonds[first..], c, o1, o2);
@@ -251,10 +251,11 @@ pub(crate) fn connect(
     )
 }
 
-/// The carboxyl groups (carbon, oxygen, oxygen) of a template residue
-/// whose protonation the residue's name leaves open: Asp's and Glu's side
-/// chains and every amino acid's C terminus.
-fn carboxyls(
+/// The acid groups (carbon or phosphorus, oxygen, oxygen) of a template
+/// residue whose protonation the residue's name leaves open: Asp's and
+/// Glu's side chains, every amino acid's C terminus and every nucleotide's
+/// phosphate.
+fn acid_groups(
     kind: PolymerKind,
     residue: &str,
 ) -> &'static [(&'static str, &'static str, &'static str)] {
@@ -262,20 +263,21 @@ fn carboxyls(
         (PolymerKind::Peptide, "ASP") => &[("CG", "OD1", "OD2"), ("C", "O", "OXT")],
         (PolymerKind::Peptide, "GLU") => &[("CD", "OE1", "OE2"), ("C", "O", "OXT")],
         (PolymerKind::Peptide, _) => &[("C", "O", "OXT")],
-        (PolymerKind::Nucleic, _) => &[],
+        (PolymerKind::Nucleic, _) => &[("P", "OP1", "OP2")],
     }
 }
 
-/// Chooses which oxygen of a neutral carboxylic acid carries the hydrogen,
-/// by setting the orders of its two C–O bonds among `bonds`.
+/// Chooses which oxygen of a neutral carboxylic or phosphoric acid carries
+/// the hydrogen, by setting the orders of its two bonds to the central atom
+/// among `bonds`.
 ///
 /// An oxygen with a hydrogen in the file takes it. Otherwise the choice is
 /// Open Babel's when it adds hydrogens to a PDB file (the preparation of
 /// AutoDock Vina's usual receptors): its distance bonding adds each atom's
 /// bonds in order of the partner's z coordinate and its functional-group
 /// typer makes the first oxygen found the carbonyl, so the oxygen with the
-/// larger z carries the hydrogen. In a crystal structure the two C–O bonds
-/// are the same within error, so geometry cannot choose better.
+/// larger z carries the hydrogen. In a crystal structure the two bonds are
+/// the same within error, so geometry cannot choose better.
 fn place_acid_hydrogen(
     mol: &Molecule,
     explicit_h: &[Option<u8>],

@@ -16,8 +16,15 @@
 //!   1.36, C–C under 1.38, C–S under 1.75). A trigonal nitrogen with three
 //!   neighbours (amide, aniline, pyrrole) needs none, unless it sits in a
 //!   flat six-ring (pyridinium); sulfur and phosphorus take their double
-//!   bonds to terminal oxygens (sulfone, phosphate). Among candidates, the
-//!   bond shortest relative to the sum of covalent radii goes first.
+//!   bonds to terminal oxygens (sulfone, phosphate). A two-neighbour N in
+//!   a flat six-ring must have one (pyridine), unless a neighbouring carbon
+//!   carries a carbonyl oxygen (a lactam or imide N, as in uracil and
+//!   guanine): then it may, and carries a hydrogen when the carbonyl takes
+//!   the double bond. Among candidates, the bond shortest relative to the
+//!   sum of covalent radii goes first, a carbonyl oxygen favoured and an
+//!   exocyclic imine N, and more so a three-neighbour N (which the bond
+//!   would charge), disfavoured, as Open Babel's order of assignment has
+//!   it.
 //!
 //! An atom counts as trigonal only when one of its bonds is shorter than
 //! 0.96 of the sum of the covalent radii (some double-bond character).
@@ -318,6 +325,19 @@ fn candidates(
             let single = super::elements::covalent_radius(elem(i)).unwrap_or(0.76)
                 + super::elements::covalent_radius(elem(j as usize)).unwrap_or(0.76);
             let mut lj = pos[i].distance(pos[j as usize]) / single as f32;
+            if elem(j as usize) == "N" {
+                match adj.degree(j as usize) {
+                    // A ring bond beats an exocyclic imine where the
+                    // geometry cannot tell them apart (cytosine's C4: N3,
+                    // not N4).
+                    1 => lj += 0.02,
+                    // A neutral partner beats a nitrogen that the double
+                    // bond would charge (a pyridinium N), as Open Babel
+                    // prefers.
+                    3 => lj += 0.05,
+                    _ => {}
+                }
+            }
             if is_terminal_o(mol, adj, j as usize) {
                 // A carbonyl beats an imine where the geometry cannot
                 // tell them apart (an amide, a carboxylic acid).
@@ -561,8 +581,13 @@ fn from_geometry(
         ("C", 3) => need(u32::from(shape >= 1), true),
         ("C", 2) => need(shape, true),
         // A pyridine-like N in a six-ring must; elsewhere (an amide or
-        // pyrrole N with an implicit hydrogen) it may.
-        ("N", 2) if shape >= 1 => need(shape.min(1), in_six_ring && shape == 1),
+        // pyrrole N with an implicit hydrogen) it may, and so may a
+        // six-ring N beside a carbonyl carbon (a lactam or imide N, as in
+        // uracil and guanine), whose carbonyl takes the double bond.
+        ("N", 2) if shape >= 1 => need(
+            shape.min(1),
+            in_six_ring && shape == 1 && !beside_carbonyl(i, row, pos, adj, mol),
+        ),
         // A pyridinium N (three neighbours in a trigonal six-ring) may.
         ("N", 3) if ring_trigonal_flag => need(1, false),
         ("N", 3) => {
@@ -583,7 +608,7 @@ fn from_geometry(
             let other = mol.atoms[j].element.as_str();
             let d = pos[i].distance(pos[j]);
             let double = match (e, other) {
-                ("O", "C") => d < 1.40,
+                ("O", "C") => d < CARBONYL,
                 ("O", "N") => d < 1.30,
                 ("O", "S" | "P") => true,
                 ("N", "C") if d < 1.21 => return need(2, false),
@@ -601,6 +626,29 @@ fn from_geometry(
         _ => need(0, false),
     }
 }
+
+/// True when a neighbour of atom `i` is a carbon with a terminal oxygen
+/// close enough to be a carbonyl (the length [`from_geometry`] lets a
+/// terminal O take a double bond at).
+fn beside_carbonyl(
+    i: usize,
+    row: &[(u32, u32)],
+    pos: &[Vec3],
+    adj: &Adjacency,
+    mol: &Molecule,
+) -> bool {
+    row.iter().any(|&(c, _)| {
+        let c = c as usize;
+        mol.atoms[c].element == "C"
+            && adj.of(c).iter().any(|&(o, _)| {
+                let o = o as usize;
+                o != i && is_terminal_o(mol, adj, o) && pos[c].distance(pos[o]) < CARBONYL
+            })
+    })
+}
+
+/// Longest C–O bond (Å) a terminal oxygen may take a double bond at.
+const CARBONYL: f32 = 1.40;
 
 /// Mean angle (degrees) between atom `i`'s bonds (0 with fewer than two).
 fn mean_angle(i: usize, row: &[(u32, u32)], pos: &[Vec3]) -> f32 {

@@ -9,7 +9,8 @@ for the ligand), and bump reads the same receptor atoms and the ligand file as g
     python tests/reference/vina/compare.py RECEPTOR.pdb LIGAND.sdf [--bump PATH] [--as-is]
 
 By default the receptor is its polymer (ATOM) records, as in the reference; `--as-is` gives
-Vina and bump the whole file (ions, cofactors and waters included). Prints, for vina and
+Vina and bump the whole file but its waters (ions, cofactors and modified residues included;
+bump always leaves waters out). Prints, for vina and
 vinardo, Vina's and bump's inter, intra and total, and exits with status 1 when an
 intermolecular energy differs by more than 0.1 kcal/mol + 3 % (issue 43's tolerance).
 Requirements: requirements.txt beside this script, and a release build of bump.
@@ -25,6 +26,10 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import make_reference as mr  # noqa: E402
+
+
+# bump's water names (model::WATER_NAMES), as PDB's three columns hold them.
+WATERS = {"HOH", "WAT", "H2O", "DOD", "TIP", "TIP3", "SOL", "D2O"}
 
 
 def bump_score(bump, receptor, ligand, sf):
@@ -44,7 +49,7 @@ def main():
     ap.add_argument("ligand", help="SDF")
     ap.add_argument("--bump", default="target/release/bump")
     ap.add_argument("--as-is", action="store_true",
-                    help="give both programs the whole receptor file, HETATM records included")
+                    help="give both programs the whole receptor file but its waters")
     args = ap.parse_args()
     receptor, ligand = os.path.abspath(args.receptor), os.path.abspath(args.ligand)
     worst = 0.0
@@ -54,7 +59,11 @@ def main():
         rec_for_bump = os.path.join(work, "cmp_rec.pdb")
         if args.as_is:
             rec_pdbqt = os.path.join(work, "cmp_whole.pdbqt")
-            mr.ob_to_pdbqt(receptor, "pdb", rec_pdbqt, add_h=True, rigid=True)
+            dry = os.path.join(work, "cmp_dry.pdb")
+            with open(receptor) as src, open(dry, "w") as out:
+                out.writelines(l for l in src if not (l.startswith(("ATOM", "HETATM"))
+                                                      and l[17:20].strip() in WATERS))
+            mr.ob_to_pdbqt(dry, "pdb", rec_pdbqt, add_h=True, rigid=True)
             rec_for_bump = receptor
         text = open(lig_pdbqt).read()
         xyz = np.array(orig)
