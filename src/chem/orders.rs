@@ -62,6 +62,15 @@ struct Need {
     count: u8,
     /// True when the atom must get them.
     required: bool,
+    /// True when an atom that may have one is still a partner in the
+    /// matching's first round, among the atoms that must: a clear carbonyl
+    /// oxygen, and the lactam N beside it, which carries a hydrogen if the
+    /// carbonyl takes the double bond.
+    early: bool,
+    /// True for a two-neighbour N of a flat five-ring: left without a π
+    /// bond, it pairs with a neighbour such as itself (the N=N of a
+    /// triazole or tetrazole).
+    azole: bool,
 }
 
 /// Fills in the orders of `conn`'s unspecified and aromatic bonds.
@@ -178,7 +187,14 @@ impl RingShapes {
                     row.len() <= 3 && mean_angle(i as usize, row, pos) > TRIGONAL
                 })
                 .count();
-            if looks >= 4 && ring_deviation(ring, pos) <= 2.0 * FLAT_RING {
+            // An atom with four neighbours, or with every bond at
+            // single-bond length, is sp3 however the ring bends (the CH of
+            // a 1,4-dihydropyridine).
+            let saturated = ring.iter().any(|&i| {
+                let row = adj.of(i as usize);
+                row.len() > 3 || shortest_bond(i as usize, row, pos, mol) >= SHORT_BOND
+            });
+            if looks >= 4 && !saturated && ring_deviation(ring, pos) <= 2.0 * FLAT_RING {
                 for &i in ring {
                     ring_trigonal[i as usize] = true;
                 }
@@ -360,8 +376,10 @@ fn candidates(
 }
 
 /// Double bonds: a matching over the bonds between atoms that want one,
-/// first among the atoms that must have one, then from those still without
-/// to any partner. An atom that must have one and gets none is warned of.
+/// first among the atoms that must have one (and clear carbonyl oxygens and
+/// ring nitrogens), then from those still without to any partner, then
+/// between azole nitrogens still without. An atom that must have one and
+/// gets none is warned of.
 fn match_doubles(
     mol: &Molecule,
     adj: &Adjacency,
@@ -381,7 +399,8 @@ fn match_doubles(
         })
         .collect();
     let constrained = |i: usize| (adjacency[i].len(), i);
-    // Phase 1: atoms that must have a double bond, among themselves.
+    // Phase 1: atoms that must have a double bond, among themselves and
+    // with the early partners.
     let mut required: Vec<usize> = (0..n)
         .filter(|&i| need[i].count > 0 && need[i].required)
         .collect();
@@ -391,7 +410,9 @@ fn match_doubles(
             adjacency[i]
                 .iter()
                 .copied()
-                .filter(|&(j, _)| need[i].required && need[j as usize].required)
+                .filter(|&(j, _)| {
+                    need[i].required && (need[j as usize].required || need[j as usize].early)
+                })
                 .collect()
         })
         .collect();
@@ -407,6 +428,19 @@ fn match_doubles(
         if mate[i].is_none() {
             let mut visited = vec![false; n];
             augment(i, &adjacency, &mut mate, &mut visited, need);
+        }
+    }
+    // Phase 3: azole nitrogens still without one, with each other.
+    for i in 0..n {
+        if mate[i].is_some() || !need[i].azole || need[i].count == 0 {
+            continue;
+        }
+        if let Some(&(j, k)) = adjacency[i]
+            .iter()
+            .find(|&&(j, _)| mate[j as usize].is_none() && need[j as usize].azole)
+        {
+            mate[i] = Some((j, k));
+            mate[j as usize] = Some((i as u32, k));
         }
     }
     for i in 0..n {
@@ -496,6 +530,8 @@ fn from_valence(
                 .min(terminal_o.max(u32::from(deg + h <= 2)))
                 .saturating_sub(stated) as u8,
             required: false,
+            early: false,
+            azole: false,
         };
     }
     let valences = charged_valences(e, charge);
@@ -507,6 +543,8 @@ fn from_valence(
             .unwrap_or(0)
             .min(2),
         required: true,
+        early: false,
+        azole: false,
     }
 }
 
@@ -516,14 +554,20 @@ fn aromatic_need(e: &str, deg: u32, stated: u32) -> Need {
         "C" if stated == 0 && deg <= 3 => Need {
             count: 1,
             required: true,
+            early: false,
+            azole: false,
         },
         "N" | "P" if stated == 0 && deg == 2 => Need {
             count: 1,
             required: false,
+            early: false,
+            azole: false,
         },
         "B" if stated == 0 => Need {
             count: 1,
             required: false,
+            early: false,
+            azole: false,
         },
         _ => Need::default(),
     }
@@ -549,16 +593,7 @@ fn from_geometry(
     // A trigonal atom has some bond shorter than a single bond (an
     // aromatic, double or conjugated one): with every bond at single-bond
     // length the atom is sp3 whatever its angles.
-    let shortest = row
-        .iter()
-        .map(|&(j, _)| {
-            let single = super::elements::covalent_radius(e).unwrap_or(0.76)
-                + super::elements::covalent_radius(mol.atoms[j as usize].element.as_str())
-                    .unwrap_or(0.76);
-            pos[i].distance(pos[j as usize]) / single as f32
-        })
-        .fold(f32::INFINITY, f32::min);
-    let conjugated = shortest < SHORT_BOND;
+    let conjugated = shortest_bond(i, row, pos, mol) < SHORT_BOND;
     // A two-neighbour sp3 atom opens its angle more than a three-neighbour
     // one (a CH2 between rings reaches 116°).
     let trigonal = if deg == 2 { TRIGONAL + 2.0 } else { TRIGONAL };
@@ -575,19 +610,26 @@ fn from_geometry(
     let need = |count: u32, required: bool| Need {
         count: u8::try_from(count.saturating_sub(stated)).unwrap_or(0),
         required,
+        early: false,
+        azole: false,
     };
     match (e, deg) {
         ("C", 4) => need(0, false),
         ("C", 3) => need(u32::from(shape >= 1), true),
         ("C", 2) => need(shape, true),
-        // A pyridine-like N in a six-ring must; elsewhere (an amide or
-        // pyrrole N with an implicit hydrogen) it may, and so may a
-        // six-ring N beside a carbonyl carbon (a lactam or imide N, as in
-        // uracil and guanine), whose carbonyl takes the double bond.
-        ("N", 2) if shape >= 1 => need(
-            shape.min(1),
-            in_six_ring && shape == 1 && !beside_carbonyl(i, row, pos, adj, mol),
-        ),
+        // A pyridine-like N in a trigonal six-ring must; elsewhere (an
+        // amide or pyrrole N with an implicit hydrogen, a dihydropyridine
+        // N) it may, and so may a six-ring N beside a carbonyl carbon (a
+        // lactam or imide N, as in uracil and guanine), whose carbonyl
+        // takes the double bond. A ring N is an early partner.
+        ("N", 2) if shape >= 1 => {
+            let lactam = beside_carbonyl(i, row, pos, adj, mol);
+            Need {
+                early: shape == 1 && (in_six_ring || flat_ring == 5),
+                azole: shape == 1 && flat_ring == 5,
+                ..need(shape.min(1), ring_trigonal_flag && shape == 1 && !lactam)
+            }
+        }
         // A pyridinium N (three neighbours in a trigonal six-ring) may.
         ("N", 3) if ring_trigonal_flag => need(1, false),
         ("N", 3) => {
@@ -598,7 +640,8 @@ fn from_geometry(
                     mol.atoms[j as usize].element == "O" && adj.degree(j as usize) == 1
                 })
                 .count();
-            need(u32::from(terminal_o >= 2), false)
+            // It must: the oxygens only may.
+            need(u32::from(terminal_o >= 2), terminal_o >= 2)
         }
         ("S", 3) => need(1, false),
         ("S", 4) => need(2, false),
@@ -608,6 +651,12 @@ fn from_geometry(
             let other = mol.atoms[j].element.as_str();
             let d = pos[i].distance(pos[j]);
             let double = match (e, other) {
+                ("O", "C") if d < CLEAR_CARBONYL => {
+                    return Need {
+                        early: true,
+                        ..need(1, false)
+                    };
+                }
                 ("O", "C") => d < CARBONYL,
                 ("O", "N") => d < 1.30,
                 ("O", "S" | "P") => true,
@@ -625,6 +674,20 @@ fn from_geometry(
         }
         _ => need(0, false),
     }
+}
+
+/// Atom `i`'s shortest bond relative to the sum of the covalent radii
+/// (infinite with no bonds).
+fn shortest_bond(i: usize, row: &[(u32, u32)], pos: &[Vec3], mol: &Molecule) -> f32 {
+    let e = mol.atoms[i].element.as_str();
+    row.iter()
+        .map(|&(j, _)| {
+            let single = super::elements::covalent_radius(e).unwrap_or(0.76)
+                + super::elements::covalent_radius(mol.atoms[j as usize].element.as_str())
+                    .unwrap_or(0.76);
+            pos[i].distance(pos[j as usize]) / single as f32
+        })
+        .fold(f32::INFINITY, f32::min)
 }
 
 /// True when a neighbour of atom `i` is a carbon with a terminal oxygen
@@ -649,6 +712,11 @@ fn beside_carbonyl(
 
 /// Longest C–O bond (Å) a terminal oxygen may take a double bond at.
 const CARBONYL: f32 = 1.40;
+
+/// Longest C–O bond (Å) of a terminal oxygen that the matching's first
+/// round pairs (a carbonyl or a carboxyl is 1.21–1.27 Å, a phenol's or an
+/// enol's C–O 1.36).
+const CLEAR_CARBONYL: f32 = 1.30;
 
 /// Mean angle (degrees) between atom `i`'s bonds (0 with fewer than two).
 fn mean_angle(i: usize, row: &[(u32, u32)], pos: &[Vec3]) -> f32 {

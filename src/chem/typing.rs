@@ -281,6 +281,26 @@ pub(crate) fn hydrogens(
             ),
         }
     }
+    // A nitrogen charged by its four bonds (nitro, N-oxide) read without
+    // charges: its singly bonded terminal oxygen is the anion, not a
+    // hydroxyl (as Open Babel types it).
+    for i in 0..n {
+        if mol.atoms[i].element.as_str() != "N" || charges[i] != 1 || conn.charges[i] != 0 {
+            continue;
+        }
+        let oxide = adj.of(i).iter().find(|&&(o, k)| {
+            let o = o as usize;
+            mol.atoms[o].element.as_str() == "O"
+                && adj.degree(o) == 1
+                && conn.bonds[k as usize].order == BondOrder::Single
+                && explicit_h[o].is_none()
+                && charges[o] == 0
+        });
+        if let Some(&(o, _)) = oxide {
+            charges[o as usize] = -1;
+            count[o as usize] = 0;
+        }
+    }
     // Hydrogens loaded as atoms count as their neighbours' hydrogens.
     let mut atom_h = vec![0u8; n];
     for i in 0..n {
