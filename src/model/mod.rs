@@ -17,6 +17,7 @@ pub mod molecule;
 pub mod pdb;
 pub mod sdf;
 pub mod select;
+mod small;
 pub mod write;
 
 use std::path::Path;

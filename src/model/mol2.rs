@@ -31,10 +31,10 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::element;
-use super::pdb::{RadiusLookup, file_name, read_bytes};
+use super::pdb::{RadiusLookup, read_bytes};
+use super::small::{self, Record, Which};
 use super::{
-    AtomInfo, BondOrder, FileBond, FileChemistry, Label, LoadError, LoadOptions, Loaded,
-    MAX_FILE_COORDINATE, Structure,
+    AtomInfo, BondOrder, FileBond, Label, LoadError, LoadOptions, Loaded, MAX_FILE_COORDINATE,
 };
 use crate::text::excerpt;
 
@@ -331,51 +331,20 @@ pub fn parse_mol2(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Lo
         });
         positions.push(a.position);
     }
-    let n_atoms = atoms.len();
-    let mut structure = Structure {
-        name: String::new(),
+    let record = Record {
         atoms,
         positions,
-        hydrogen_only: Vec::new(),
         bonds,
-        file_chem: FileChemistry {
-            hydrogens: Vec::new(),
-            formal_charges: if charges.iter().any(|&q| q != 0) {
-                charges
-            } else {
-                Vec::new()
-            },
-            bonds_complete: bond_section.is_some() || n_atoms == 1,
-            from_sdf: true,
-        },
+        charges,
+        bonds_stated: bond_section.is_some(),
     };
-    let dropped = if opts.hydrogens == super::Hydrogens::Drop {
-        super::set_hydrogens_apart(&mut structure)
-    } else {
-        0
+    let which = Which {
+        path_label,
+        count: starts.len(),
+        wanted,
+        noun: "molecule",
     };
-    structure.hydrogen_only.clear();
-    if structure.atoms.is_empty() {
-        return Err(LoadError::NoAtoms {
-            path: path_label.to_string(),
-            dropped_hydrogens: dropped,
-        });
-    }
-    if starts.len() > 1 {
-        warnings.push(format!(
-            "{path_label}: file holds {} molecules; using molecule {wanted}",
-            starts.len()
-        ));
-    }
-    warnings.extend(lookup.warnings(path_label));
-    structure.name = match starts.len() {
-        1 => file_name(Path::new(path_label)),
-        _ => format!("{} record {wanted}", file_name(Path::new(path_label))),
-    };
-    Ok(Loaded {
-        structure,
-        warnings,
-    })
+    small::loaded(record, &which, opts, &lookup, warnings)
 }
 
 #[cfg(test)]

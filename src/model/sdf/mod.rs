@@ -42,9 +42,8 @@ use glam::DVec3;
 
 use super::element;
 use super::pdb::{RadiusLookup, file_name, read_bytes};
-use super::{
-    AtomInfo, FileBond, FileChemistry, Hydrogens, Label, LoadError, LoadOptions, Loaded, Structure,
-};
+use super::small::{self, Which};
+use super::{AtomInfo, FileBond, Label, LoadError, LoadOptions, Loaded};
 
 /// Longest residue label taken from a record's title line.
 const MAX_RESIDUE_CHARS: usize = 8;
@@ -147,56 +146,20 @@ pub fn parse_sdf(text: &str, path_label: &str, opts: &LoadOptions) -> Result<Loa
         .collect();
     bonds.sort_unstable();
     bonds.dedup_by_key(|b| (b.a, b.b));
-    let n_atoms = atoms.len();
-    let mut structure = Structure {
-        name: String::new(),
+    let record = small::Record {
         atoms,
         positions,
-        hydrogen_only: Vec::new(),
         bonds,
-        file_chem: FileChemistry {
-            hydrogens: Vec::new(),
-            formal_charges: if extras.charges.iter().any(|&q| q != 0) {
-                extras.charges
-            } else {
-                Vec::new()
-            },
-            bonds_complete: extras.bond_block || n_atoms == 1,
-            from_sdf: true,
-        },
+        charges: extras.charges,
+        bonds_stated: extras.bond_block,
     };
-    let dropped = if opts.hydrogens == Hydrogens::Drop {
-        super::set_hydrogens_apart(&mut structure)
-    } else {
-        0
+    let which = Which {
+        path_label,
+        count: records.len(),
+        wanted,
+        noun: "record",
     };
-    // Record residues are never "hydrogen only" in a useful sense.
-    structure.hydrogen_only.clear();
-    if structure.atoms.is_empty() {
-        return Err(LoadError::NoAtoms {
-            path: path_label.to_string(),
-            dropped_hydrogens: dropped,
-        });
-    }
-    let mut warnings = extras.warnings;
-    if records.len() > 1 {
-        warnings.push(format!(
-            "{path_label}: file holds {} records; using record {wanted}",
-            records.len()
-        ));
-    }
-    warnings.extend(lookup.warnings(path_label));
-    // A record of several is named with its number, in every message and
-    // report that names the molecule.
-    let name = match records.len() {
-        1 => file_name(Path::new(path_label)),
-        _ => format!("{} record {wanted}", file_name(Path::new(path_label))),
-    };
-    structure.name = name;
-    Ok(Loaded {
-        structure,
-        warnings,
-    })
+    small::loaded(record, &which, opts, &lookup, extras.warnings)
 }
 
 /// Record boundaries as `(first, end)` 0-based line indices, `$$$$` excluded.
@@ -278,8 +241,8 @@ mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used)]
 
     use super::*;
-    use crate::model::BondOrder;
     use crate::model::element::UNKNOWN_RADIUS;
+    use crate::model::{BondOrder, Hydrogens};
 
     /// The shared test-data folder, or `None` (after saying so) when it is
     /// missing outside CI. In CI a missing folder fails the test.
