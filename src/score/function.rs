@@ -299,6 +299,8 @@ pub fn curl(e: f64) -> f64 {
 #[inline]
 pub fn curl_with_slope(e: f64) -> (f64, f64) {
     if e > 0.0 {
+        // Rare (an overlap), and a division: kept off the common path.
+        std::hint::cold_path();
         let t = 1000.0 / (1000.0 + e);
         (e * t, t * t)
     } else {
