@@ -622,6 +622,16 @@ fn from_geometry(
         // N) it may, and so may a six-ring N beside a carbonyl carbon (a
         // lactam or imide N, as in uracil and guanine), whose carbonyl
         // takes the double bond. A ring N is an early partner.
+        // An azide's middle N (linear between two N): the triple bond to
+        // its terminal N (N⁻–N⁺≡N).
+        ("N", 2)
+            if shape == 2
+                && row
+                    .iter()
+                    .all(|&(j, _)| mol.atoms[j as usize].element.as_str() == "N") =>
+        {
+            need(2, true)
+        }
         ("N", 2) if shape >= 1 => {
             let lactam = beside_carbonyl(i, row, pos, adj, mol);
             Need {
@@ -661,6 +671,8 @@ fn from_geometry(
                 ("O", "N") => d < 1.30,
                 ("O", "S" | "P") => true,
                 ("N", "C") if d < 1.21 => return need(2, false),
+                // An azide's or a diazo group's terminal N.
+                ("N", "N") if d < 1.20 => return need(2, false),
                 ("N", "C") => d < 1.36,
                 ("C", "C") if d < 1.25 => return need(2, false),
                 ("C", "C") => d < 1.38,

@@ -281,17 +281,26 @@ pub(crate) fn hydrogens(
             ),
         }
     }
-    // A nitrogen charged by its four bonds (nitro, N-oxide) read without
-    // charges: its singly bonded terminal oxygen is the anion, not a
-    // hydroxyl (as Open Babel types it).
+    // A nitrogen charged by its four bonds (nitro, N-oxide, an azide's
+    // middle N) read without charges: its singly bonded terminal oxygen, or
+    // the azide's singly bonded N, is the anion, not a hydroxyl or an NH
+    // (as Open Babel types them).
     for i in 0..n {
         if mol.atoms[i].element.as_str() != "N" || charges[i] != 1 || conn.charges[i] != 0 {
             continue;
         }
+        let azide = adj
+            .of(i)
+            .iter()
+            .any(|&(_, k)| conn.bonds[k as usize].order == BondOrder::Triple);
         let oxide = adj.of(i).iter().find(|&&(o, k)| {
             let o = o as usize;
-            mol.atoms[o].element.as_str() == "O"
-                && adj.degree(o) == 1
+            let anion = match mol.atoms[o].element.as_str() {
+                "O" => adj.degree(o) == 1,
+                "N" => azide && adj.degree(o) == 2,
+                _ => false,
+            };
+            anion
                 && conn.bonds[k as usize].order == BondOrder::Single
                 && explicit_h[o].is_none()
                 && charges[o] == 0
