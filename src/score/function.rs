@@ -298,14 +298,15 @@ pub fn curl(e: f64) -> f64 {
 /// The curl and its derivative `d curl / d e` (1 for `e ≤ 0`).
 #[inline]
 pub fn curl_with_slope(e: f64) -> (f64, f64) {
-    if e > 0.0 {
-        // Rare (an overlap), and a division: kept off the common path.
-        std::hint::cold_path();
-        let t = 1000.0 / (1000.0 + e);
-        (e * t, t * t)
-    } else {
-        (e, 1.0)
-    }
+    if e > 0.0 { curl_positive(e) } else { (e, 1.0) }
+}
+
+/// [`curl_with_slope`] of a positive energy: rare (an overlap), and a
+/// division, so kept off the common path.
+#[cold]
+fn curl_positive(e: f64) -> (f64, f64) {
+    let t = 1000.0 / (1000.0 + e);
+    (e * t, t * t)
 }
 
 /// Vina's divisor of the intermolecular energy, `1 + 0.05846·N_tors`.
