@@ -66,7 +66,7 @@ struct RawAtom {
 }
 
 /// Parses MOL2 text already in memory. `path_label` names the source in
-/// messages; its last path component becomes [`Structure::name`].
+/// messages; its last path component becomes [`Structure::name`](super::Structure::name).
 ///
 /// # Errors
 /// As [`load_mol2`], less the I/O error.

@@ -4,7 +4,7 @@
 //! picks one (1-based, the first by default). The atom block gives
 //! coordinates, element symbols and formal charges (the charge column, or
 //! `M  CHG` lines, which replace it; `CHG=` in V3000); the bond block gives
-//! [`Structure::bonds`] with their orders (type 4 aromatic, the query types
+//! [`Structure::bonds`](super::Structure::bonds) with their orders (type 4 aromatic, the query types
 //! 5–8 unspecified). A bond naming atom 0, an atom beyond the count or the
 //! same atom twice is left out with a warning naming the line. Hydrogens,
 //! when dropped, are kept apart with their bonds
@@ -65,7 +65,7 @@ pub fn load_sdf(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
 }
 
 /// Parses SDF text already in memory. `path_label` names the source in
-/// messages; its last path component becomes [`Structure::name`].
+/// messages; its last path component becomes [`Structure::name`](super::Structure::name).
 ///
 /// # Errors
 /// As [`load_sdf`], less the I/O error.
