@@ -16,23 +16,27 @@
 //!   1.36, C–C under 1.38, C–S under 1.75). A trigonal nitrogen with three
 //!   neighbours (amide, aniline, pyrrole) needs none, unless it sits in a
 //!   flat six-ring (pyridinium); sulfur and phosphorus take their double
-//!   bonds to terminal oxygens (sulfone, phosphate). A two-neighbour N in
-//!   a flat six-ring must have one (pyridine), unless a neighbouring carbon
-//!   carries a carbonyl oxygen (a lactam or imide N, as in uracil and
-//!   guanine): then it may, and carries a hydrogen when the carbonyl takes
-//!   the double bond. Among candidates, the bond shortest relative to the
-//!   sum of covalent radii goes first, a carbonyl oxygen favoured and an
-//!   exocyclic imine N, and more so a three-neighbour N (which the bond
-//!   would charge), disfavoured, as Open Babel's order of assignment has
-//!   it.
+//!   bonds to terminal oxygens (sulfone, phosphate), a nitro N to one of
+//!   its oxygens, an azide's middle N a triple bond to its terminal N. A
+//!   two-neighbour N in a six-ring that is trigonal throughout must have
+//!   one (pyridine), unless a neighbouring carbon carries a carbonyl oxygen
+//!   (a lactam or imide N, as in uracil and guanine): then it may, and
+//!   carries a hydrogen when the carbonyl takes the double bond. A ring
+//!   with a saturated atom (a dihydropyridine) is not trigonal throughout.
+//!   Among candidates, the bond shortest relative to the sum of covalent
+//!   radii goes first, a carbonyl oxygen favoured and an exocyclic imine N,
+//!   and more so a three-neighbour N (which the bond would charge),
+//!   disfavoured, as Open Babel's order of assignment has it.
 //!
 //! An atom counts as trigonal only when one of its bonds is shorter than
 //! 0.96 of the sum of the covalent radii (some double-bond character).
 //! Triple bonds join pairs of linear atoms; double bonds are a matching:
-//! first among the atoms that must have one, then from those still without
-//! to any candidate, each by augmenting paths (Kuhn's method) that try the
-//! shortest bond (relative to a single bond) first, so the structure
-//! follows the geometry.
+//! first among the atoms that must have one and the early partners that
+//! may (clear carbonyl oxygens, ring nitrogens), then from those still
+//! without to any candidate, each by augmenting paths (Kuhn's method) that
+//! try the shortest bond (relative to a single bond) first, so the
+//! structure follows the geometry; last, two azole nitrogens still without
+//! pair with each other (the N=N of a triazole or tetrazole).
 //! An atom that must have a π bond and gets none is reported by name.
 
 use glam::Vec3;
@@ -64,8 +68,8 @@ struct Need {
     required: bool,
     /// True when an atom that may have one is still a partner in the
     /// matching's first round, among the atoms that must: a clear carbonyl
-    /// oxygen, and the lactam N beside it, which carries a hydrogen if the
-    /// carbonyl takes the double bond.
+    /// oxygen, and a ring N (a lactam N carries a hydrogen if the carbonyl
+    /// beside it takes the double bond).
     early: bool,
     /// True for a two-neighbour N of a flat five-ring: left without a π
     /// bond, it pairs with a neighbour such as itself (the N=N of a
@@ -617,11 +621,6 @@ fn from_geometry(
         ("C", 4) => need(0, false),
         ("C", 3) => need(u32::from(shape >= 1), true),
         ("C", 2) => need(shape, true),
-        // A pyridine-like N in a trigonal six-ring must; elsewhere (an
-        // amide or pyrrole N with an implicit hydrogen, a dihydropyridine
-        // N) it may, and so may a six-ring N beside a carbonyl carbon (a
-        // lactam or imide N, as in uracil and guanine), whose carbonyl
-        // takes the double bond. A ring N is an early partner.
         // An azide's middle N (linear between two N): the triple bond to
         // its terminal N (N⁻–N⁺≡N).
         ("N", 2)
@@ -632,6 +631,11 @@ fn from_geometry(
         {
             need(2, true)
         }
+        // A pyridine-like N in a trigonal six-ring must; elsewhere (an
+        // amide or pyrrole N with an implicit hydrogen, a dihydropyridine
+        // N) it may, and so may a six-ring N beside a carbonyl carbon (a
+        // lactam or imide N, as in uracil and guanine), whose carbonyl
+        // takes the double bond. A ring N is an early partner.
         ("N", 2) if shape >= 1 => {
             let lactam = beside_carbonyl(i, row, pos, adj, mol);
             Need {
