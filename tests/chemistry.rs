@@ -518,3 +518,58 @@ fn perceived_bond_orders_type_drugs_as_their_true_bonds_do() {
     }
     assert!(differ.is_empty(), "{differ:#?}");
 }
+
+/// Atoms bonded to a metal (within the sum of covalent radii + 0.45 Å, as
+/// Open Babel bonds them) lose a hydrogen and, for N, the acceptor's lone
+/// pair: the heme of cytochrome P450 2C9 (1dt6) has four N_P nitrogens, as
+/// Open Babel's preparation types them, and no N or O bound to 1azv's
+/// copper and zinc, or to the heme's iron, carries a hydrogen or accepts.
+#[test]
+fn atoms_bound_to_metals_give_up_hydrogens_and_lone_pairs() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let p450 = receptor_of(&dir, "1dt6.pdb");
+    let c = p450.chemistry();
+    for name in ["NA", "NB", "NC", "ND"] {
+        let i = atom_of(&p450, "HEM", 501, name).expect("heme N");
+        assert_eq!(
+            (c.xs[i], c.hydrogen_count[i]),
+            (Some(XsType::N_P), 0),
+            "1dt6 HEM {name}"
+        );
+    }
+    for file in ["1dt6.pdb", "1azv.pdb"] {
+        let mol = receptor_of(&dir, file);
+        let c = mol.chemistry();
+        let pos = mol.file_positions();
+        let metals: Vec<usize> = (0..mol.len())
+            .filter(|&i| matches!(mol.atoms[i].element.as_str(), "Fe" | "Cu" | "Zn"))
+            .collect();
+        assert!(!metals.is_empty(), "{file}");
+        let mut bound = 0;
+        for i in 0..mol.len() {
+            if !matches!(mol.atoms[i].element.as_str(), "N" | "O")
+                || !metals.iter().any(|&m| pos[m].distance(pos[i]) < 2.3)
+            {
+                continue;
+            }
+            bound += 1;
+            let a = &mol.atoms[i];
+            assert_eq!(
+                c.hydrogen_count[i], 0,
+                "{file} {} {} {}",
+                a.residue, a.seq, a.name
+            );
+            assert!(
+                !matches!(c.xs[i], Some(XsType::N_A | XsType::N_DA | XsType::N_D)),
+                "{file} {} {} {}: {:?}",
+                a.residue,
+                a.seq,
+                a.name,
+                c.xs[i]
+            );
+        }
+        assert!(bound >= 4, "{file}: {bound} atoms bound to a metal");
+    }
+}

@@ -53,6 +53,10 @@ pub(crate) struct Connection {
     pub residue_of: Vec<u32>,
     /// Per residue: the template that covers it.
     pub templates: Vec<Option<&'static Template>>,
+    /// Per atom: how many metal atoms an N or O is bonded to by distance
+    /// (as Open Babel bonds them); bump keeps metals out of `bonds`, but a
+    /// metal takes the place of a hydrogen and of a lone pair.
+    pub metal_bonds: Vec<u8>,
 }
 
 /// Residues as ranges of consecutive atoms with the same chain, number,
@@ -127,12 +131,14 @@ pub(crate) fn connect(
     let mut template_aromatic = vec![false; n];
     let mut templates: Vec<Option<&'static Template>> = vec![None; residues.len()];
     let mut bonds: Vec<Bond> = Vec::new();
+    let metal_bonds = metal_bonds(mol);
 
     if mol.bonds_complete {
         bonds.extend(mol.file_bonds.iter().copied());
         ordered.iter_mut().for_each(|o| *o = true);
         return finish(
             bonds,
+            metal_bonds,
             ordered,
             template_aromatic,
             charges,
@@ -181,7 +187,15 @@ pub(crate) fn connect(
         for &(c, o1, o2) in acid_groups(t.kind, atoms[s as usize].residue.trim()) {
             let find = |name: &str| names.iter().position(|nm| nm == name).map(|k| s + idx(k));
             if let (Some(c), Some(o1), Some(o2)) = (find(c), find(o1), find(o2)) {
-                place_acid_hydrogen(mol, explicit_h, &mut bonds[first..], c, o1, o2);
+                place_acid_hydrogen(
+                    mol,
+                    explicit_h,
+                    &metal_bonds,
+                    &mut bonds[first..],
+                    c,
+                    o1,
+                    o2,
+                );
             }
         }
     }
@@ -243,6 +257,7 @@ pub(crate) fn connect(
 
     finish(
         bonds,
+        metal_bonds,
         ordered,
         template_aromatic,
         charges,
@@ -271,7 +286,8 @@ fn acid_groups(
 /// the hydrogen, by setting the orders of its two bonds to the central atom
 /// among `bonds`.
 ///
-/// An oxygen with a hydrogen in the file takes it. Otherwise the choice is
+/// An oxygen with a hydrogen in the file, or bonded to a metal (which takes
+/// the hydrogen's place), is the hydroxyl's. Otherwise the choice is
 /// Open Babel's when it adds hydrogens to a PDB file (the preparation of
 /// AutoDock Vina's usual receptors): its distance bonding adds each atom's
 /// bonds in order of the partner's z coordinate and its functional-group
@@ -281,12 +297,14 @@ fn acid_groups(
 fn place_acid_hydrogen(
     mol: &Molecule,
     explicit_h: &[Option<u8>],
+    metal_bonds: &[u8],
     bonds: &mut [Bond],
     c: u32,
     o1: u32,
     o2: u32,
 ) {
-    let has_h = |o: u32| explicit_h[o as usize].is_some_and(|h| h > 0);
+    let has_h =
+        |o: u32| explicit_h[o as usize].is_some_and(|h| h > 0) || metal_bonds[o as usize] > 0;
     let z = |o: u32| mol.file_position(o as usize).z;
     let hydroxyl = match (has_h(o1), has_h(o2)) {
         (true, false) => o1,
@@ -316,6 +334,7 @@ fn place_acid_hydrogen(
 /// order over an unspecified one) and builds the [`Connection`].
 fn finish(
     mut bonds: Vec<Bond>,
+    metal_bonds: Vec<u8>,
     ordered: Vec<bool>,
     template_aromatic: Vec<bool>,
     charges: Vec<i8>,
@@ -332,8 +351,45 @@ fn finish(
         charges,
         residue_of,
         templates,
+        metal_bonds,
     }
 }
+
+/// Per atom, the metal atoms an N or O lies within bonding distance of
+/// (covalent radii + [`BOND_TOLERANCE`]): a zinc's histidines and
+/// carboxylates, a heme's nitrogens.
+fn metal_bonds(mol: &Molecule) -> Vec<u8> {
+    let atoms = &mol.atoms;
+    let mut out = vec![0u8; atoms.len()];
+    let metals: Vec<usize> = (0..atoms.len())
+        .filter(|&i| is_metal(&atoms[i].element))
+        .collect();
+    if metals.is_empty() {
+        return out;
+    }
+    let ligating = |i: usize| matches!(atoms[i].element.as_str(), "N" | "O");
+    let candidates: Vec<usize> = (0..atoms.len()).filter(|&i| ligating(i)).collect();
+    let points: Vec<Vec3> = candidates.iter().map(|&i| mol.local[i]).collect();
+    let reach = 2.0 * MAX_COVALENT + BOND_TOLERANCE as f32;
+    let grid = NeighbourGrid::new(&points, reach);
+    for &m in &metals {
+        // A metal without a tabulated radius (a lanthanide) as a large one.
+        let rm = covalent_radius(&atoms[m].element).unwrap_or(1.8);
+        grid.for_each_near(mol.local[m], |k| {
+            let i = candidates[k as usize];
+            let ri = covalent_radius(&atoms[i].element).unwrap_or(0.7);
+            let d = mol.local[m].distance(mol.local[i]);
+            if d >= MIN_BOND_LENGTH as f32 && d <= (rm + ri + BOND_TOLERANCE) as f32 {
+                out[i] = out[i].saturating_add(1);
+            }
+        });
+    }
+    out
+}
+
+/// The largest covalent radius of a metal or a ligating atom (Å): the
+/// metal bonds' search reach.
+const MAX_COVALENT: f32 = 2.03;
 
 /// The bond order of a template's digit.
 fn order_of(order: u8) -> BondOrder {

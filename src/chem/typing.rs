@@ -183,6 +183,8 @@ pub(crate) struct Hydro {
     pub atom_h: Vec<u8>,
     /// Formal charges (file, template or implied).
     pub charges: Vec<i8>,
+    /// Metal atoms bonded to each N or O ([`Connection::metal_bonds`]).
+    pub metal_bonds: Vec<u8>,
 }
 
 impl Hydro {
@@ -237,10 +239,12 @@ pub(crate) fn hydrogens(
             // Open Babel adds the hydrogens a valence still wants even to a
             // file that has some (a carboxylate written without its
             // hydrogen gets one), so an atom has at least those.
+            // A metal bonded to the atom takes the place of one.
             let wanted = charged_valences(e, charges[i])
                 .iter()
                 .find(|&&v| u32::from(v) >= used)
-                .map_or(0, |&v| u32::from(v) - used);
+                .map_or(0, |&v| u32::from(v) - used)
+                .saturating_sub(u32::from(conn.metal_bonds[i]));
             let h = h.max(u8::try_from(wanted).unwrap_or(0));
             count[i] = h;
             let total = used + u32::from(h);
@@ -310,6 +314,13 @@ pub(crate) fn hydrogens(
             count[o as usize] = 0;
         }
     }
+    // A metal takes a hydrogen's place on the N or O it binds (a zinc's
+    // carboxylate, a heme's pyrrole N), unless the file gives hydrogens.
+    for i in 0..n {
+        if explicit_h[i].is_none() {
+            count[i] = count[i].saturating_sub(conn.metal_bonds[i]);
+        }
+    }
     // Hydrogens loaded as atoms count as their neighbours' hydrogens.
     let mut atom_h = vec![0u8; n];
     for i in 0..n {
@@ -323,6 +334,7 @@ pub(crate) fn hydrogens(
         count,
         atom_h,
         charges,
+        metal_bonds: conn.metal_bonds.clone(),
     }
 }
 
@@ -440,7 +452,10 @@ pub(crate) fn xs_types(
         .map(|i| {
             let e = mol.atoms[i].element.as_str();
             let h = hydro.count[i] + hydro.atom_h[i];
-            let degree = adj.degree(i) + usize::from(hydro.count[i]);
+            // A metal bonded to an N holds its lone pair: counted as a
+            // neighbour, as Open Babel bonds it.
+            let degree =
+                adj.degree(i) + usize::from(hydro.count[i]) + usize::from(hydro.metal_bonds[i]);
             let t = match e {
                 "C" => {
                     let hetero = adj.of(i).iter().any(|&(j, _)| {
