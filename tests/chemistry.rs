@@ -521,7 +521,7 @@ fn perceived_bond_orders_type_drugs_as_their_true_bonds_do() {
 
 /// Atoms bonded to a metal (within the sum of covalent radii + 0.45 Å, as
 /// Open Babel bonds them) lose a hydrogen and, for N, the acceptor's lone
-/// pair: the heme of cytochrome P450 2C9 (1dt6) has four N_P nitrogens, as
+/// pair: the heme of cytochrome P450 2C5 (1dt6) has four N_P nitrogens, as
 /// Open Babel's preparation types them, and no N or O bound to 1azv's
 /// copper and zinc, or to the heme's iron, carries a hydrogen or accepts.
 #[test]
