@@ -290,3 +290,37 @@ fn a_score_with_contributions_is_the_score_and_the_contributions() {
     }
     assert!(checked > 0);
 }
+
+/// The benchmark report's floors (`bump_testkit::score_bench`) compute
+/// what the evaluators compute, to the bit, for trimethoprim in DHFR: the
+/// exact evaluator's pairs, and the flexible evaluation's intramolecular
+/// pairs. So the floors time the same table reads, not fewer.
+#[test]
+fn the_reports_floors_compute_what_the_evaluators_do() {
+    use bump::score::table::Table;
+    use bump::score::{Field, Gradient, Workspace, energy_gradient};
+    use bump_testkit::score_bench::{PairList, dhfr, intra_floor, pairs_floor};
+
+    let Some(dir) = shared_pdb() else {
+        return;
+    };
+    let s = dhfr(&dir).unwrap();
+    let exact = Exact::new(&s.receptor, Scoring::Vina);
+    let table = Table::of(Scoring::Vina);
+    let list = PairList::new(&exact, &s.lig, &s.crystal);
+    assert!(list.len() > 1000 && list.intra_len() > 50);
+
+    let mut floor = Vec::new();
+    pairs_floor(&list, table, &mut floor);
+    let x = s.lig.place(&s.crystal);
+    let at: Vec<DVec3> = s.lig.scored.iter().map(|&i| x[i as usize]).collect();
+    let mut want = vec![(0.0, DVec3::ZERO); at.len()];
+    exact.atoms_energy_gradient(&s.lig.xs, &at, &mut want);
+    assert_eq!(floor, want);
+
+    let mut forces = Vec::new();
+    let intra = intra_floor(&list, table, &mut forces);
+    let (mut ws, mut g) = (Workspace::default(), Gradient::default());
+    let e = energy_gradient(&exact, &s.lig, &s.crystal, &mut ws, &mut g);
+    assert_eq!(intra, e.intra);
+}
