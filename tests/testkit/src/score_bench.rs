@@ -5,7 +5,9 @@
 //! - Trimethoprim (TOP) in E. coli DHFR (`6xg5_tmp_prepared.pdb`): Vina's
 //!   energy with the gradient (force, torque, torsion torques) from maps
 //!   and exactly (the whole drug at once, and one atom at a time as the
-//!   baseline), Vina's energy alone exactly; maps for a 24 Å box at
+//!   baseline), Vina's energy alone exactly; the same table reads alone,
+//!   from pair lists made beforehand (the exact evaluation's pairs, the
+//!   drug's intramolecular pairs): the floors; maps for a 24 Å box at
 //!   0.375 Å built on every thread; settle from seeded perturbed crystal
 //!   poses (up to 1.5 Å and 30°) on maps. Timings alternate the methods
 //!   in rounds and report the minimum and median of the rounds.
@@ -170,7 +172,8 @@ pub struct PairList {
 }
 
 impl PairList {
-    /// The pairs of `lig` at `conf` with `receptor`.
+    /// The pairs of `lig` at `conf` with the evaluator's receptor, and
+    /// the drug's intramolecular pairs.
     pub fn new(exact: &Exact<'_>, lig: &Ligand, conf: &Conformation) -> Self {
         let x = lig.place(conf);
         let receptor = exact.receptor();
