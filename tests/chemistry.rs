@@ -13,7 +13,7 @@ mod common;
 
 use std::collections::HashMap;
 
-use bump::chem::{XsType, torsions::pairs_beyond_three_bonds};
+use bump::chem::{Chemistry, XsType, torsions::pairs_beyond_three_bonds};
 use bump::model::{self, BondOrder, LigandSpec, LoadOptions, Molecule};
 use bump_testkit::vina_reference::COMPLEXES;
 use glam::DVec3;
@@ -392,6 +392,11 @@ fn receptor_of(dir: &std::path::Path, file: &str) -> Molecule {
     model::receptor_only(&loaded.structure).expect(file)
 }
 
+/// An atom's X-Score type and hydrogen count.
+fn typed(c: &Chemistry, i: usize) -> (Option<XsType>, u8) {
+    (c.xs[i], c.hydrogen_count[i])
+}
+
 fn atom_of(mol: &Molecule, residue: &str, seq: i64, name: &str) -> Option<usize> {
     mol.atoms
         .iter()
@@ -428,18 +433,8 @@ fn nucleic_acids_get_their_phosphates_and_keto_bases() {
         } else {
             (j, i)
         };
-        assert_eq!(
-            (c.xs[hi], c.hydrogen_count[hi]),
-            (Some(XsType::O_DA), 1),
-            "1bna {}",
-            a.seq
-        );
-        assert_eq!(
-            (c.xs[lo], c.hydrogen_count[lo]),
-            (Some(XsType::O_A), 0),
-            "1bna {}",
-            a.seq
-        );
+        assert_eq!(typed(c, hi), (Some(XsType::O_DA), 1), "1bna {}", a.seq);
+        assert_eq!(typed(c, lo), (Some(XsType::O_A), 0), "1bna {}", a.seq);
         phosphates += 1;
     }
     assert_eq!(phosphates, 22);
@@ -533,11 +528,7 @@ fn atoms_bound_to_metals_give_up_hydrogens_and_lone_pairs() {
     let c = p450.chemistry();
     for name in ["NA", "NB", "NC", "ND"] {
         let i = atom_of(&p450, "HEM", 501, name).expect("heme N");
-        assert_eq!(
-            (c.xs[i], c.hydrogen_count[i]),
-            (Some(XsType::N_P), 0),
-            "1dt6 HEM {name}"
-        );
+        assert_eq!(typed(c, i), (Some(XsType::N_P), 0), "1dt6 HEM {name}");
     }
     for file in ["1dt6.pdb", "1azv.pdb"] {
         let mol = receptor_of(&dir, file);
