@@ -190,11 +190,10 @@ pub(crate) fn connect(
                 place_acid_hydrogen(
                     mol,
                     explicit_h,
+                    &charges,
                     &metal_bonds,
                     &mut bonds[first..],
-                    c,
-                    o1,
-                    o2,
+                    (c, o1, o2),
                 );
             }
         }
@@ -286,8 +285,9 @@ fn acid_groups(
 /// the hydrogen, by setting the orders of its two bonds to the central atom
 /// among `bonds`.
 ///
-/// An oxygen with a hydrogen in the file, or bonded to a metal (which takes
-/// the hydrogen's place), is the hydroxyl's. Otherwise the choice is
+/// An oxygen with a hydrogen in the file, bonded to a metal (which takes
+/// the hydrogen's place) or given a negative charge by the file (an anion's
+/// oxygen, which then has no hydrogen) takes the single bond. Otherwise the choice is
 /// Open Babel's when it adds hydrogens to a PDB file (the preparation of
 /// AutoDock Vina's usual receptors): its distance bonding adds each atom's
 /// bonds in order of the partner's z coordinate and its functional-group
@@ -297,14 +297,18 @@ fn acid_groups(
 fn place_acid_hydrogen(
     mol: &Molecule,
     explicit_h: &[Option<u8>],
+    charges: &[i8],
     metal_bonds: &[u8],
     bonds: &mut [Bond],
-    c: u32,
-    o1: u32,
-    o2: u32,
+    (c, o1, o2): (u32, u32, u32),
 ) {
-    let has_h =
-        |o: u32| explicit_h[o as usize].is_some_and(|h| h > 0) || metal_bonds[o as usize] > 0;
+    // A hydrogen, a metal or a negative charge (a carboxylate written
+    // `1-`) takes the single bond.
+    let has_h = |o: u32| {
+        explicit_h[o as usize].is_some_and(|h| h > 0)
+            || metal_bonds[o as usize] > 0
+            || charges[o as usize] < 0
+    };
     let z = |o: u32| mol.file_position(o as usize).z;
     let hydroxyl = match (has_h(o1), has_h(o2)) {
         (true, false) => o1,

@@ -346,6 +346,26 @@ mod tests {
         }
     }
 
+    /// A charge the file gives an oxygen makes the aspartate a carboxylate,
+    /// whichever oxygen lies higher: both accept, neither donates (as Open
+    /// Babel types a PDB written with `1-` in columns 79-80).
+    #[test]
+    fn a_charged_aspartate_oxygen_makes_a_carboxylate() {
+        for (z1, z2) in [(-0.3, 0.3), (0.3, -0.3)] {
+            for charged in [6, 7] {
+                let mut m = aspartate(z1, z2);
+                m.formal_charges = vec![0; m.len()];
+                m.formal_charges[charged] = -1;
+                let c = m.chemistry();
+                for o in [6, 7] {
+                    assert_eq!(c.xs[o], Some(XsType::O_A), "OD{} charged {charged}", o - 5);
+                    assert_eq!(c.hydrogen_count[o], 0);
+                }
+                assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+            }
+        }
+    }
+
     #[test]
     fn benzene_from_geometry() {
         let m = ligand(&ring(&["C"; 6], 1.39));

@@ -35,8 +35,11 @@
 //! may (clear carbonyl oxygens, ring nitrogens), then from those still
 //! without to any candidate, each by augmenting paths (Kuhn's method) that
 //! try the shortest bond (relative to a single bond) first, so the
-//! structure follows the geometry; last, two azole nitrogens still without
-//! pair with each other (the N=N of a triazole or tetrazole).
+//! structure follows the geometry; then an atom that must have one and is
+//! still without takes its partner from an atom that only may (a fused
+//! azole's ring N, which then carries the hydrogen); last, two azole
+//! nitrogens still without pair with each other (the N=N of a triazole or
+//! tetrazole).
 //! An atom that must have a π bond and gets none is reported by name.
 
 use glam::Vec3;
@@ -254,15 +257,58 @@ fn needs(
                 } else {
                     shapes.in_flat_ring[i]
                 };
-                from_geometry(i, e, row, pos, adj, mol, flat, shapes.in_six[i], stated)
+                let geometry =
+                    from_geometry(i, e, row, pos, adj, mol, flat, shapes.in_six[i], stated);
+                with_charge(geometry, e, conn.charges[i], deg, stated)
             }
         };
+    }
+    // An azide's middle N (two π bonds, between two N): each N beside it
+    // may take one, bent as the first is (N=[N+]=[N-]).
+    for i in 0..n {
+        let row = adj.of(i);
+        let middle = need[i].count == 2
+            && need[i].required
+            && mol.atoms[i].element.as_str() == "N"
+            && row.len() == 2
+            && row
+                .iter()
+                .all(|&(j, _)| mol.atoms[j as usize].element.as_str() == "N");
+        if middle {
+            for &(j, _) in row {
+                let j = j as usize;
+                if open[j] && explicit_h[j].is_none() && need[j].count == 0 {
+                    need[j].count = 1;
+                }
+            }
+        }
     }
     need
 }
 
-/// Hypervalent S and P: double bonds to their shortest terminal O/S/N
-/// first (an acid's terminal oxygens in file order).
+/// `need` bounded by the valence of the charge the file gives the atom:
+/// an anionic O or S (a carboxylate's `1-`) takes no π bond, an azide's
+/// terminal `N1-` one, a cationic N its fourth bond.
+fn with_charge(need: Need, e: &str, charge: i8, deg: u32, stated: u32) -> Need {
+    if charge == 0 || !matches!(e, "N" | "O" | "S" | "P") {
+        return need;
+    }
+    let most = charged_valences(e, charge)
+        .last()
+        .copied()
+        .map_or(0, u32::from);
+    let room = most.saturating_sub(deg + stated);
+    if room == 0 {
+        return Need::default();
+    }
+    Need {
+        count: need.count.min(u8::try_from(room).unwrap_or(u8::MAX)),
+        ..need
+    }
+}
+
+/// Hypervalent S and P, and nitro N: double bonds to their shortest
+/// terminal O/S/N first (an acid's terminal oxygens in file order).
 fn hypervalent_doubles(
     mol: &Molecule,
     adj: &Adjacency,
@@ -273,7 +319,10 @@ fn hypervalent_doubles(
     let pos = &mol.local;
     let elem = |i: usize| mol.atoms[i].element.as_str();
     for i in 0..mol.len() {
-        if !open[i] || !matches!(elem(i), "S" | "P") || need[i].count == 0 {
+        // A nitro N too: its N=O before the matching, which could pair it
+        // with the ring carbon it sits on.
+        let nitro = elem(i) == "N" && terminal_oxygens(mol, adj, i) >= 2;
+        if !open[i] || !(matches!(elem(i), "S" | "P") || nitro) || need[i].count == 0 {
             continue;
         }
         let mut terminal: Vec<(f32, u32, u32)> = adj
@@ -318,6 +367,36 @@ fn triple_bonds(conn: &Connection, need: &mut [Need], order: &mut [BondOrder]) {
             order[k] = BondOrder::Triple;
             need[a].count -= 2;
             need[c].count -= 2;
+        }
+    }
+    // A centre still wanting two with no partner for a triple bond (an
+    // azide written N=[N+]=[N-], an allene) takes two double bonds.
+    for i in 0..need.len() {
+        if need[i].count < 2 {
+            continue;
+        }
+        let ends: Vec<(usize, usize)> = conn
+            .bonds
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| is_free(order[k]))
+            .filter_map(|(k, b)| {
+                let other = if b.a as usize == i {
+                    b.b
+                } else if b.b as usize == i {
+                    b.a
+                } else {
+                    return None;
+                };
+                (need[other as usize].count >= 1).then_some((k, other as usize))
+            })
+            .collect();
+        if ends.len() == 2 {
+            for (k, j) in ends {
+                order[k] = BondOrder::Double;
+                need[j].count -= 1;
+            }
+            need[i].count = 0;
         }
     }
     for nd in need.iter_mut() {
@@ -382,7 +461,8 @@ fn candidates(
 /// Double bonds: a matching over the bonds between atoms that want one,
 /// first among the atoms that must have one (and clear carbonyl oxygens and
 /// ring nitrogens), then from those still without to any partner, then
-/// between azole nitrogens still without. An atom that must have one and
+/// taking partners from atoms that only may have one, then between azole
+/// nitrogens still without. An atom that must have one and
 /// gets none is warned of.
 fn match_doubles(
     mol: &Molecule,
@@ -423,7 +503,7 @@ fn match_doubles(
     for &i in &required {
         if mate[i].is_none() {
             let mut visited = vec![false; n];
-            augment(i, &required_only, &mut mate, &mut visited, need);
+            augment(i, &required_only, &mut mate, &mut visited, need, false);
         }
     }
     // Phase 2: the rest of them, with any partner (a terminal O, a
@@ -431,7 +511,18 @@ fn match_doubles(
     for &i in &required {
         if mate[i].is_none() {
             let mut visited = vec![false; n];
-            augment(i, &adjacency, &mut mate, &mut visited, need);
+            augment(i, &adjacency, &mut mate, &mut visited, need, false);
+        }
+    }
+    // Phase 2b: any still without take a partner from an atom that only
+    // may have one, along an alternating path (the fused ring of an
+    // indazole or a benzimidazole read without hydrogens: its ring
+    // nitrogens took π bonds the carbons need, and the one left without
+    // carries the hydrogen).
+    for &i in &required {
+        if mate[i].is_none() {
+            let mut visited = vec![false; n];
+            augment(i, &adjacency, &mut mate, &mut visited, need, true);
         }
     }
     // Phase 3: azole nitrogens still without one, with each other.
@@ -463,12 +554,15 @@ fn match_doubles(
 }
 
 /// Kuhn's augmenting path from free atom `v`: true when `v` got a partner.
+/// With `steal`, a partner whose mate cannot be matched again is taken
+/// from that mate all the same when the mate only may have a π bond.
 fn augment(
     v: usize,
     adjacency: &[Vec<(u32, u32)>],
     mate: &mut [Option<(u32, u32)>],
     visited: &mut [bool],
     need: &[Need],
+    steal: bool,
 ) -> bool {
     visited[v] = true;
     // A free partner first, so optional atoms are not displaced needlessly.
@@ -488,14 +582,15 @@ fn augment(
         visited[w] = true;
         if let Some((x, _)) = mate[w] {
             let x = x as usize;
-            // Only take w from an optional partner or one that can rematch.
-            if !visited[x] && augment(x, adjacency, mate, visited, need) {
-                mate[v] = Some((w as u32, k));
-                mate[w] = Some((v as u32, k));
-                return true;
+            if visited[x] {
+                continue;
             }
-            if !visited[x] && !need[x].required {
-                mate[x] = None;
+            // Take w from a mate that can rematch, or (stealing) that only
+            // may have a π bond.
+            if augment(x, adjacency, mate, visited, need, steal) || (steal && !need[x].required) {
+                if mate[x].is_some_and(|(y, _)| y as usize == w) {
+                    mate[x] = None;
+                }
                 mate[v] = Some((w as u32, k));
                 mate[w] = Some((v as u32, k));
                 return true;

@@ -25,7 +25,10 @@
 //! an element guessed from the atom name ([`guess_pdb_element`]); an element
 //! field naming no element makes the atom an unknown element (2 Å and a
 //! warning). The bonds the file states (`CONECT`, `struct_conn`) become
-//! [`Structure::bonds`] (`bonds.rs`).
+//! [`Structure::bonds`] (`bonds.rs`), and the formal charges it states (PDB
+//! columns 79–80, mmCIF's `pdbx_formal_charge`) the file chemistry's
+//! ([`super::FileChemistry::formal_charges`]), as Open Babel reads them: a
+//! carboxylate written `1-` gets no hydrogen.
 
 mod alternates;
 mod bonds;
@@ -42,8 +45,8 @@ use glam::DVec3;
 
 use super::element::{self, UNKNOWN_RADIUS};
 use super::{
-    AtomInfo, Hydrogens, Label, LoadError, LoadOptions, Loaded, MAX_FILE_COORDINATE, RadiiSet,
-    Structure,
+    AtomInfo, FileChemistry, Hydrogens, Label, LoadError, LoadOptions, Loaded, MAX_FILE_COORDINATE,
+    RadiiSet, Structure,
 };
 use crate::model::label::{ChainId, ElementSymbol, InsertionCode, ResidueName};
 use crate::text::{LineReader, SourceError, TextSource, lines::LineError};
@@ -208,6 +211,8 @@ struct Raw {
     occupancy: Vec<f32>,
     /// Their alternate-location codes (0 for none).
     alt: Vec<u8>,
+    /// Their formal charges as the file states them (0 where it does not).
+    charges: Vec<i8>,
     /// The bonds the file states, by the atoms' serials or names.
     bonds: bonds::Pending,
     /// Warnings, naming the file.
@@ -216,11 +221,12 @@ struct Raw {
 
 impl Raw {
     /// Adds an atom.
-    fn push(&mut self, atom: AtomInfo, position: DVec3, occupancy: f32, alt: u8) {
+    fn push(&mut self, atom: AtomInfo, position: DVec3, occupancy: f32, alt: u8, charge: i8) {
         self.atoms.push(atom);
         self.positions.push(position);
         self.occupancy.push(occupancy);
         self.alt.push(alt);
+        self.charges.push(charge);
     }
 }
 
@@ -271,6 +277,11 @@ fn build(mut raw: Raw, label: &str, name: &str, opts: &LoadOptions) -> Result<Lo
         k += 1;
         keep[k - 1]
     });
+    let mut k = 0;
+    raw.charges.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
     drop(keep);
     if raw.atoms.is_empty() {
         return Err(LoadError::NoAtoms {
@@ -290,7 +301,15 @@ fn build(mut raw: Raw, label: &str, name: &str, opts: &LoadOptions) -> Result<Lo
             positions: raw.positions,
             hydrogen_only,
             bonds,
-            file_chem: Default::default(),
+            file_chem: FileChemistry {
+                // Only a file that states some charge has charges to keep.
+                formal_charges: if raw.charges.iter().any(|&q| q != 0) {
+                    raw.charges
+                } else {
+                    Vec::new()
+                },
+                ..Default::default()
+            },
         },
         warnings,
     })

@@ -42,6 +42,8 @@ pub(super) fn read_pdb<R: Read>(lines: &mut LineReader<R>, label: &str) -> Resul
     let mut looked_at_start = false;
     let mut scratch = String::new();
     let mut conect_warnings = 0;
+    // The first unreadable charge field (line, text) and how many there were.
+    let mut odd_charges: (Option<(usize, String)>, usize) = (None, 0);
     while let Some((number, bytes)) = lines.next_line().map_err(|e| line_error(label, e))? {
         let line = ascii_line(bytes, &mut scratch);
         let at = |column: usize, reason: String| {
@@ -63,6 +65,13 @@ pub(super) fn read_pdb<R: Read>(lines: &mut LineReader<R>, label: &str) -> Resul
             if chains.done {
                 continue;
             }
+            let charge = formal_charge(line).unwrap_or_else(|| {
+                if odd_charges.0.is_none() {
+                    odd_charges.0 = Some((number, excerpt(line.get(78..80).unwrap_or(""))));
+                }
+                odd_charges.1 += 1;
+                0
+            });
             let chain = chains.chain_of(line, number).map_err(|r| at(22, r))?;
             if let Chain::Blank(run) = chain {
                 blank.push((raw.atoms.len(), run));
@@ -90,6 +99,7 @@ pub(super) fn read_pdb<R: Read>(lines: &mut LineReader<R>, label: &str) -> Resul
                     b' ' => 0,
                     c => c,
                 },
+                charge,
             );
         } else if line.starts_with("TER") {
             chains.next_blank_chain();
@@ -114,6 +124,12 @@ pub(super) fn read_pdb<R: Read>(lines: &mut LineReader<R>, label: &str) -> Resul
         raw.warnings.push(format!(
             "{label}: ... and {} more CONECT records skipped",
             conect_warnings - MAX_CONECT_WARNINGS
+        ));
+    }
+    if let (Some((line, text)), n) = odd_charges {
+        raw.warnings.push(format!(
+            "{label}:{line}:79: the charge field (columns 79-80) reads {text}, not a charge \
+             such as 1- or 2+; {n} such record(s) read as uncharged"
         ));
     }
     let free = chains.free_letters();
@@ -266,6 +282,22 @@ fn check_atom_fields(line: &str) -> Result<AtomFields, (usize, String)> {
         occupancy,
         element,
     })
+}
+
+/// The formal charge in columns 79–80 of an atom record: blank is 0, and
+/// the format's `1-` or `2+` (or `-1`, `+2`, a bare digit) the charge; None
+/// for anything else.
+fn formal_charge(line: &str) -> Option<i8> {
+    let text = line.get(78..80).unwrap_or("").trim();
+    let b = text.as_bytes();
+    let digit = |c: u8| c.is_ascii_digit().then(|| (c - b'0') as i8);
+    match b {
+        [] => Some(0),
+        [d] => digit(*d),
+        [d, b'+'] | [b'+', d] => digit(*d),
+        [d, b'-'] | [b'-', d] => digit(*d).map(|v| -v),
+        _ => None,
+    }
 }
 
 /// The bonded pairs of a `CONECT` record: the atom in columns 7–11 with

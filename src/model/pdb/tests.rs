@@ -632,3 +632,82 @@ fn hydrogens_kept_or_dropped() {
     assert_eq!(keep.structure.atoms.len(), 2491 + 39);
     assert_eq!(drop.structure.atoms.len(), 1268 + 21);
 }
+
+/// Columns 79-80 give formal charges as PDB writes them (`1-`, `2+`) and as
+/// some programs do (`-1`, `+2`); blank is 0; a field that is not a charge
+/// reads 0 with one warning naming its line; a file with no charge keeps
+/// none.
+#[test]
+fn formal_charges_are_read_from_columns_79_to_80() {
+    let line = |serial: usize, name: &str, element: &str, charge: &str| {
+        format!(
+            "HETATM{serial:5} {name:<4} LIG A   1    {:8.3}{:8.3}{:8.3}  1.00  0.00          {element:>2}{charge}",
+            serial as f64 * 1.5,
+            0.0,
+            0.0
+        )
+    };
+    let text = [
+        line(1, "O1", "O", "1-"),
+        line(2, "C2", "C", ""),
+        line(3, "N3", "N", "1+"),
+        line(4, "O4", "O", "-1"),
+        line(5, "N5", "N", "+2"),
+        line(6, "C6", "C", "x?"),
+        line(7, "C7", "C", " 0"),
+    ]
+    .join("\n");
+    let loaded = parse_pdb_text(&text).expect("parses");
+    assert_eq!(
+        loaded.structure.file_chem.formal_charges,
+        vec![-1, 0, 1, -1, 2, 0, 0]
+    );
+    let warned: Vec<&String> = loaded
+        .warnings
+        .iter()
+        .filter(|w| w.contains("charge field"))
+        .collect();
+    assert_eq!(warned.len(), 1, "{:?}", loaded.warnings);
+    assert!(
+        warned[0].contains("inline.pdb:6:79") && warned[0].contains("x?"),
+        "{}",
+        warned[0]
+    );
+    let plain = [line(1, "O1", "O", ""), line(2, "C2", "C", "")].join("\n");
+    let loaded = parse_pdb_text(&plain).expect("parses");
+    assert!(loaded.structure.file_chem.formal_charges.is_empty());
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+}
+
+/// mmCIF's `pdbx_formal_charge` gives formal charges (`?` is 0); a value
+/// that is not a small whole number is refused, naming the atom.
+#[test]
+fn formal_charges_are_read_from_pdbx_formal_charge() {
+    let cif = |charges: [&str; 3]| {
+        let mut t = String::from(
+            "data_t\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n\
+             _atom_site.label_atom_id\n_atom_site.label_comp_id\n_atom_site.auth_asym_id\n\
+             _atom_site.auth_seq_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n\
+             _atom_site.pdbx_formal_charge\n",
+        );
+        for (k, q) in charges.iter().enumerate() {
+            t += &format!(
+                "HETATM {} O O{} LIG A 1 {}.0 0.0 0.0 {q}\n",
+                k + 1,
+                k + 1,
+                2 * k
+            );
+        }
+        t
+    };
+    let loaded = parse_cif_text(&cif(["-1", "?", "2"])).expect("parses");
+    assert_eq!(loaded.structure.file_chem.formal_charges, vec![-1, 0, 2]);
+    let loaded = parse_cif_text(&cif(["?", ".", "0"])).expect("parses");
+    assert!(loaded.structure.file_chem.formal_charges.is_empty());
+    let err = parse_cif_text(&cif(["0", "half", "0"])).expect_err("refused");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("formal charge of atom 2") && msg.contains("half"),
+        "{msg}"
+    );
+}

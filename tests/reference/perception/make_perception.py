@@ -6,7 +6,8 @@ Open Babel assigns them from the true bond orders.
     python tests/reference/perception/make_perception.py
 
 For each SMILES below: RDKit adds hydrogens, embeds (seed 7) and MMFF-optimises; the heavy atoms
-go to tests/data/perception/NAME.pdb (no CONECT, no hydrogens, atom names element + index);
+go to tests/data/perception/NAME.pdb (no CONECT, no hydrogens, atom names element + index, a
+formal charge in columns 79-80 as a PDB writer puts it, 1- or 1+);
 the molecule with its hydrogens and bond orders goes to Open Babel's PDBQT writer, and each N and
 O gets the X-Score type Vina reads from that PDBQT (NA/OA accept; an HD bonded makes a donor).
 Writes tests/reference/perception/values.json. tests/chemistry.rs checks that bump, reading only
@@ -98,6 +99,16 @@ MOLECULES = [
     ("isoniazid", "NNC(=O)c1ccncc1"),
     ("chloramphenicol", "OCC(NC(=O)C(Cl)Cl)C(O)c1ccc([N+](=O)[O-])cc1"),
     ("pyrazinamide", "NC(=O)c1cnccn1"),
+    ("indazole", "c1ccc2[nH]ncc2c1"),
+    ("indazole_3_carboxamide", "NC(=O)c1n[nH]c2ccccc12"),
+    ("benzimidazole", "c1ccc2[nH]cnc2c1"),
+    ("azaindole7", "c1cnc2[nH]ccc2c1"),
+    ("carbazole", "c1ccc2c(c1)[nH]c1ccccc12"),
+    ("purine", "c1ncc2[nH]cnc2n1"),
+    ("benzoate", "[O-]C(=O)c1ccccc1"),
+    ("butylammonium", "CCCC[NH3+]"),
+    ("glycine_zwitterion", "[NH3+]CC(=O)[O-]"),
+    ("phenylphosphonate", "O=P([O-])([O-])c1ccccc1"),
     ("primidone", "CCC1(c2ccccc2)C(=O)NCNC1=O"),
     ("cimetidine", "CN=C(NC#N)NCCSCc1nc[nH]c1C"),
     ("tinidazole_like", "CCS(=O)(=O)CCn1c(C)ncc1[N+](=O)[O-]"),
@@ -156,8 +167,11 @@ def main():
                 p = conf.GetAtomPosition(a.GetIdx())
                 el = a.GetSymbol()
                 atom = (el + str(k + 1))[:4]
-                f.write("HETATM%5d %-4s LIG A   1    %8.3f%8.3f%8.3f  1.00  0.00          %2s\n"
-                        % (k + 1, atom, p.x, p.y, p.z, el.upper()))
+                q = a.GetFormalCharge()
+                # The charge in columns 79-80 (as 1- or 2+), where there is one.
+                charge = "%d%s" % (abs(q), "+" if q > 0 else "-") if q else ""
+                f.write("HETATM%5d %-4s LIG A   1    %8.3f%8.3f%8.3f  1.00  0.00          %2s%s\n"
+                        % (k + 1, atom, p.x, p.y, p.z, el.upper(), charge))
                 if el in ("N", "O"):
                     x = np.array([p.x, p.y, p.z])
                     ad, hd, _ = min(ref, key=lambda r: np.linalg.norm(r[2] - x))

@@ -9,8 +9,12 @@ middle ligand record are scored by AutoDock Vina and by `bump score` with compar
 the receptor as given (with its hydrogens) and with every hydrogen removed (as a crystal
 structure comes); then the first ligand is shifted up to 1.5 Å and turned up to 30° (8 seeded
 perturbations) and `bump settle` runs against the receptor without hydrogens: how many return
-within 1 Å heavy-atom RMSD of the file pose, and how many end in a collision. Exits with status
-1 when an intermolecular energy differs by more than compare.py's tolerance.
+within 1 Å heavy-atom RMSD of the file pose, and how many end in a collision. Last, each picked
+ligand is written as a bare PDB residue by Open Babel (HETATM records, no CONECT, charges in
+columns 79-80), with its hydrogens and without, and `bump score` of each (bump perceiving the
+chemistry) is compared with its score of the SDF: inter and intra within 0.01 kcal/mol (the
+PDB's three decimals) and the same torsion count. Exits with status 1 when an intermolecular
+energy differs from Vina's by more than compare.py's tolerance.
 Requirements: requirements.txt beside this script, and a release build of bump.
 """
 import argparse
@@ -84,6 +88,30 @@ def settle_runs(bump, receptor, ligand, work, runs=8, seed=7):
     return returned, colliding, found[len(found) // 2]
 
 
+def bump_score(bump, receptor, ligand):
+    p = subprocess.run([bump, "score", receptor, ligand, "--json"], capture_output=True,
+                       text=True)
+    if p.returncode != 0:
+        raise RuntimeError("bump score failed on %s: %s" % (ligand, p.stderr.strip()[:500]))
+    j = json.loads(p.stdout)
+    return j["inter"], j["intra"], j["torsion_count"]
+
+
+def as_bare_pdb(sdf, work, stem):
+    """The SDF's molecule as Open Babel writes it to PDB, with and without hydrogens, its
+    CONECT records left out: (with, without)."""
+    from openbabel import pybel
+    mol = next(pybel.readfile("sdf", sdf))
+    atoms = [l for l in mol.write("pdb").splitlines() if l.startswith(("ATOM", "HETATM"))]
+    out = []
+    for keep_h in (True, False):
+        path = os.path.join(work, "%s_%s.pdb" % (stem, "h" if keep_h else "noh"))
+        with open(path, "w") as f:
+            f.write("\n".join(l for l in atoms if keep_h or l[76:78].strip() != "H") + "\nEND\n")
+        out.append(path)
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -95,8 +123,9 @@ def main():
     worst = {"vina": 0.0, "vinardo": 0.0}
     ok = True
     print("| target | ligand records | Vina inter (without H) | worst vina / vinardo |d inter| "
-          "(with H) | (without H) | settle returned within 1 Å | ends colliding | median RMSD Å |")
-    print("|---|---|---|---|---|---|---|---|")
+          "(with H) | (without H) | settle returned within 1 Å | ends colliding | median RMSD Å "
+          "| as bare PDB, scored as the SDF |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for target in sorted(os.listdir(data)):
         protein = os.path.join(data, target, "01_protein", "crd", "protein.pdb")
         ligands = os.path.join(data, target, "02_ligands", "ligands.sdf")
@@ -110,6 +139,7 @@ def main():
             recs = records(ligands)
             picked = sorted({0, len(recs) // 2})
             inter, cols = [], {True: [0.0, 0.0], False: [0.0, 0.0]}
+            perceived = 0
             for i in picked:
                 lig = os.path.join(work, "lig%d.sdf" % i)
                 open(lig, "w").write(recs[i])
@@ -120,10 +150,17 @@ def main():
                     worst["vina"] = max(worst["vina"], dv)
                     worst["vinardo"] = max(worst["vinardo"], dd)
                 inter.append(e)
+                want = bump_score(bump, noh, lig)
+                same = True
+                for pdb in as_bare_pdb(lig, work, "lig%d" % i):
+                    got = bump_score(bump, noh, pdb)
+                    same &= abs(got[0] - want[0]) <= 0.01 and abs(got[1] - want[1]) <= 0.01 \
+                        and got[2] == want[2]
+                perceived += same
             back, coll, med = settle_runs(bump, noh, os.path.join(work, "lig0.sdf"), work)
-        print("| %s | %s | %s | %.3f / %.3f | %.3f / %.3f | %d of 8 | %d | %.2f |" % (
+        print("| %s | %s | %s | %.3f / %.3f | %.3f / %.3f | %d of 8 | %d | %.2f | %d of %d |" % (
             target, ", ".join(str(i + 1) for i in picked), ", ".join("%.3f" % e for e in inter),
-            *cols[True], *cols[False], back, coll, med), flush=True)
+            *cols[True], *cols[False], back, coll, med, perceived, len(picked)), flush=True)
     print("worst |d inter|: vina %.3f, vinardo %.3f kcal/mol" % (worst["vina"], worst["vinardo"]))
     if not ok:
         print("DISAGREE: an intermolecular energy differs by more than the tolerance")

@@ -1,6 +1,6 @@
 //! The `_atom_site` rows: where the items the atoms need are in a loop,
 //! and one row read into an atom (element, names, residue, chain, number,
-//! insertion code, position, occupancy), passing over rows of models other
+//! insertion code, position, occupancy, formal charge), passing over rows of models other
 //! than the first row's.
 
 use glam::DVec3;
@@ -28,6 +28,7 @@ pub(super) struct AtomColumns {
     pub(super) insertion: Option<usize>,
     pub(super) xyz: [usize; 3],
     pub(super) occupancy: Option<usize>,
+    pub(super) charge: Option<usize>,
     pub(super) model: Option<usize>,
 }
 
@@ -58,6 +59,7 @@ impl AtomColumns {
                 need(at("cartn_z"), "Cartn_z")?,
             ],
             occupancy: at("occupancy"),
+            charge: at("pdbx_formal_charge"),
             model: at("pdbx_pdb_model_num"),
         })
     }
@@ -236,6 +238,24 @@ impl AtomSite {
                 )
             })? as f32,
         };
+        // As PDB's columns 79-80 would hold it: a whole number of a few
+        // charges.
+        let charge = match row.get(c.charge) {
+            None => 0,
+            Some(v) => v
+                .parse::<i8>()
+                .ok()
+                .filter(|q| (-9..=9).contains(q))
+                .ok_or_else(|| {
+                    (
+                        c.charge.unwrap_or(0),
+                        format!(
+                            "the formal charge of atom {serial} is not a whole number from -9 to 9: {}",
+                            excerpt(v)
+                        ),
+                    )
+                })?,
+        };
         raw.push(
             AtomInfo {
                 serial,
@@ -252,6 +272,7 @@ impl AtomSite {
             position,
             occupancy,
             alt,
+            charge,
         );
         Ok(())
     }
