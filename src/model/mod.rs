@@ -132,8 +132,9 @@ pub const HYDROGEN_BOND_REACH: f64 = 1.6;
 pub struct FileChemistry {
     /// Hydrogens kept apart from the atoms, in file order.
     pub hydrogens: Vec<FileHydrogen>,
-    /// Formal charges per atom (an SDF's charge field or `M  CHG`); empty
-    /// when the file gives none.
+    /// Formal charges per atom (an SDF's charge field or `M  CHG`, MOL2's
+    /// `UNITY_ATOM_ATTR`, PDB columns 79–80, mmCIF `pdbx_formal_charge`);
+    /// empty when the file gives none.
     pub formal_charges: Vec<i8>,
     /// True when `bonds` holds every bond of the atoms with its order (an
     /// SDF bond block), so nothing need be perceived.
