@@ -366,6 +366,38 @@ mod tests {
         }
     }
 
+    /// An indazole-5-carboxamide read without hydrogens, as docked in CDK8
+    /// (heavy atoms of ligand 1 of the Open Force Field protein-ligand
+    /// benchmark's cdk8 set): its ring nitrogens first take the π bonds,
+    /// leaving a benzene carbon without one, so one N gives its own up and
+    /// carries the hydrogen (1H-indazole, the N beside the benzene ring).
+    #[test]
+    fn a_fused_azole_read_without_hydrogens_gives_a_ring_n_its_hydrogen() {
+        let m = ligand(&[
+            ("C", [-7.226, 9.851, -7.984]),
+            ("C", [-7.562, 9.684, -9.443]),
+            ("N", [-8.246, 8.646, -9.860]),
+            ("N", [-8.416, 8.805, -11.197]),
+            ("C", [-7.827, 9.947, -11.695]),
+            ("C", [-7.241, 10.545, -10.548]),
+            ("C", [-6.529, 11.747, -10.741]),
+            ("C", [-6.356, 12.308, -12.026]),
+            ("C", [-7.002, 11.715, -13.132]),
+            ("C", [-7.733, 10.526, -12.971]),
+            ("C", [-5.536, 13.557, -12.182]),
+            ("O", [-5.963, 14.490, -12.859]),
+            ("N", [-4.377, 13.627, -11.487]),
+            ("C", [-3.796, 14.896, -11.044]),
+            ("C", [-3.531, 12.479, -11.119]),
+        ]);
+        let c = m.chemistry();
+        assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+        assert_eq!((c.xs[2], c.hydrogen_count[2]), (Some(XsType::N_A), 0));
+        assert_eq!((c.xs[3], c.hydrogen_count[3]), (Some(XsType::N_D), 1));
+        // Four double bonds in the fused rings, and the amide's C=O.
+        assert_eq!(doubles(c), 5);
+    }
+
     #[test]
     fn benzene_from_geometry() {
         let m = ligand(&ring(&["C"; 6], 1.39));
