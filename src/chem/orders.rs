@@ -110,7 +110,7 @@ pub(crate) fn assign_orders(
     // Bonds that may take a higher order: unspecified or aromatic.
     let mut order: Vec<BondOrder> = conn.bonds.iter().map(|b| b.order).collect();
     hypervalent_doubles(mol, adj, &open, &mut need, &mut order);
-    triple_bonds(conn, &mut need, &mut order);
+    triple_bonds(conn, adj, &mut need, &mut order);
     match_doubles(mol, adj, &need, &mut order, warn);
     for (k, b) in conn.bonds.iter_mut().enumerate() {
         b.order = match order[k] {
@@ -360,7 +360,7 @@ fn hypervalent_doubles(
 /// Triple bonds between pairs of atoms that need two; then an atom still
 /// wanting two (a cumulene centre, a lone nitrile carbon) takes what the
 /// matching gives it, one at a time.
-fn triple_bonds(conn: &Connection, need: &mut [Need], order: &mut [BondOrder]) {
+fn triple_bonds(conn: &Connection, adj: &Adjacency, need: &mut [Need], order: &mut [BondOrder]) {
     for (k, b) in conn.bonds.iter().enumerate() {
         let (a, c) = (b.a as usize, b.b as usize);
         if is_free(order[k]) && need[a].count >= 2 && need[c].count >= 2 {
@@ -375,21 +375,11 @@ fn triple_bonds(conn: &Connection, need: &mut [Need], order: &mut [BondOrder]) {
         if need[i].count < 2 {
             continue;
         }
-        let ends: Vec<(usize, usize)> = conn
-            .bonds
+        let ends: Vec<(usize, usize)> = adj
+            .of(i)
             .iter()
-            .enumerate()
-            .filter(|&(k, _)| is_free(order[k]))
-            .filter_map(|(k, b)| {
-                let other = if b.a as usize == i {
-                    b.b
-                } else if b.b as usize == i {
-                    b.a
-                } else {
-                    return None;
-                };
-                (need[other as usize].count >= 1).then_some((k, other as usize))
-            })
+            .map(|&(j, k)| (k as usize, j as usize))
+            .filter(|&(k, j)| is_free(order[k]) && need[j].count >= 1)
             .collect();
         if ends.len() == 2 {
             for (k, j) in ends {

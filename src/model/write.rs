@@ -138,16 +138,23 @@ pub fn pdb_text(mol: &Molecule, pose: &Pose) -> String {
     let mut serials = Vec::with_capacity(order.len());
     let mut hetero = Vec::with_capacity(order.len());
     for &e in &order {
-        let (a, name, serial, element) = match e {
+        let (a, name, serial, element, charge) = match e {
             Entry::Heavy(i) => {
                 let a = &mol.atoms[i];
-                (a, a.name.as_str(), a.serial, a.element.as_str())
+                let q = mol.formal_charges.get(i).copied().unwrap_or(0);
+                (a, a.name.as_str(), a.serial, a.element.as_str(), q)
             }
             Entry::Hydrogen(h) => {
                 let p = mol.hydrogens.parent[h] as usize;
                 let Some(a) = mol.atoms.get(p) else { continue };
-                (a, mol.hydrogens.name(h), mol.hydrogens.serial[h], "H")
+                (a, mol.hydrogens.name(h), mol.hydrogens.serial[h], "H", 0)
             }
+        };
+        // Columns 79-80 as the format writes a charge (`1-`, `2+`), so the
+        // file reads back with the chemistry it was written from.
+        let charge = match charge {
+            0 => String::new(),
+            q => format!("{}{}", q.unsigned_abs(), if q > 0 { '+' } else { '-' }),
         };
         let p = placed(mol, pose, e);
         let record = if a.hetero { "HETATM" } else { "ATOM  " };
@@ -164,7 +171,7 @@ pub fn pdb_text(mol: &Molecule, pose: &Pose) -> String {
         hetero.push(a.hetero);
         let _ = writeln!(
             out,
-            "{record}{serial:>5} {name:.4} {:>3} {chain}{:>4}{ins}   {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}          {:>2}",
+            "{record}{serial:>5} {name:.4} {:>3} {chain}{:>4}{ins}   {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}          {:>2}{charge}",
             a.residue.chars().take(3).collect::<String>(),
             a.seq.rem_euclid(10_000),
             p.x,
@@ -453,6 +460,30 @@ mod tests {
         // The same bonds and orders are perceived from the written file.
         let again = crate::model::receptor_only(&load_text_as_pdb(&text)).expect("molecule");
         assert_eq!(again.chemistry().bonds, drug.chemistry().bonds);
+    }
+
+    /// A drug read with charges (benzoate's `1-`) is written with them, and
+    /// reads back as the same anion.
+    #[test]
+    fn formal_charges_round_trip_through_pdb() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let path = dir.join("tests/data/perception/benzoate.pdb");
+        let loaded = load(&path, &LoadOptions::default()).expect("load");
+        let drug = crate::model::receptor_only(&loaded.structure).expect("molecule");
+        assert!(
+            drug.formal_charges.contains(&-1),
+            "{:?}",
+            drug.formal_charges
+        );
+        let text = pdb_text(&drug, &Pose::new(DQuat::IDENTITY, drug.centre));
+        assert!(
+            text.lines()
+                .any(|l| l.starts_with("HETATM") && l.ends_with(" O1-")),
+            "{text}"
+        );
+        let again = crate::model::receptor_only(&load_text_as_pdb(&text)).expect("molecule");
+        assert_eq!(again.formal_charges, drug.formal_charges);
+        assert_eq!(again.chemistry().xs, drug.chemistry().xs);
     }
 
     /// Loads PDB text through a temporary file.
