@@ -1,7 +1,8 @@
 //! The fuzz harness: every reader bump has (PDB, gzipped PDB, mmCIF, SDF
-//! V2000 and V3000, session logs, joystick maps) is called in-process on
-//! seeded mutants of small seed inputs (written here, and slices of the
-//! shared structures in `../shared/pdb`), and must neither panic nor use
+//! V2000 and V3000, MOL2, PDBQT, session logs, joystick maps) is called
+//! in-process on seeded mutants of small seed inputs (written here, the
+//! committed PDBQT test files, and slices of the shared structures in
+//! `../shared/pdb`), and must neither panic nor use
 //! memory out of proportion to its input.
 //!
 //! - Each input runs under `catch_unwind`; a panic is a failure.
@@ -36,6 +37,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use bump::input::JoystickMap;
 use bump::model::mol2::parse_mol2;
 use bump::model::pdb::{Format, parse_bytes};
+use bump::model::pdbqt::parse_pdbqt;
 use bump::model::sdf::parse_sdf;
 use bump::model::{LigandSpec, LoadOptions, receptor_only, split_complex};
 use bump::rng::Rng;
@@ -185,6 +187,29 @@ fn read_sdf(bytes: &[u8]) -> Result<(), String> {
     first.map(|_| ())
 }
 
+/// As `model::load` reads a PDBQT file: the first model, or another; then
+/// split as the commands split it, and the drug's chemistry (the file's
+/// types and tree) perceived.
+fn read_pdbqt(bytes: &[u8]) -> Result<(), String> {
+    let text = TextSource::from_bytes(bytes, FUZZ_DECOMPRESSED_LIMIT)
+        .read_all()
+        .map_err(|e| e.to_string())?;
+    let text = String::from_utf8_lossy(&text);
+    let second = LoadOptions {
+        sdf_record: Some(2),
+        ..opts()
+    };
+    let _ = parse_pdbqt(&text, "fuzz.pdbqt", "fuzz.pdbqt", &second);
+    let mut loaded =
+        parse_pdbqt(&text, "fuzz.pdbqt", "fuzz.pdbqt", &opts()).map_err(|e| e.to_string())?;
+    bump::model::set_hydrogens_apart(&mut loaded.structure);
+    if let Ok(mol) = receptor_only(&loaded.structure) {
+        let chem = mol.chemistry();
+        assert_eq!(chem.xs.len(), mol.len());
+    }
+    Ok(())
+}
+
 /// As `model::load` reads a MOL2 file: the first molecule, or another.
 fn read_mol2(bytes: &[u8]) -> Result<(), String> {
     let text = TextSource::from_bytes(bytes, FUZZ_DECOMPRESSED_LIMIT)
@@ -272,6 +297,28 @@ fn read_shared(name: &str) -> Option<Vec<u8>> {
 
 /// A PDB file's first `atoms` atom records, the lines between them, and
 /// its `CONECT`, `TER`, `MODEL`/`ENDMDL` and `END` records.
+/// The committed PDBQT test files: two ligands (Meeko's and Open Babel's
+/// trees), a docking's three models, and the receptor's first 60 lines.
+fn pdbqt_seeds() -> Vec<Vec<u8>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pdbqt");
+    let mut seeds = Vec::new();
+    for name in ["lig1_meeko.pdbqt", "lig3_obabel.pdbqt", "dock_out.pdbqt"] {
+        if let Ok(b) = std::fs::read(dir.join(name)) {
+            seeds.push(b);
+        }
+    }
+    if let Ok(b) = std::fs::read(dir.join("receptor.pdbqt")) {
+        let head: Vec<u8> = b
+            .split_inclusive(|&c| c == b'\n')
+            .take(60)
+            .flatten()
+            .copied()
+            .collect();
+        seeds.push(head);
+    }
+    seeds
+}
+
 fn pdb_slice(text: &[u8], atoms: usize) -> Vec<u8> {
     let mut out = Vec::new();
     let mut n = 0;
@@ -529,6 +576,12 @@ fn readers() -> Vec<Reader> {
             name: "mol2",
             seeds: mol2,
             read: read_mol2,
+            repair: None,
+        },
+        Reader {
+            name: "pdbqt",
+            seeds: pdbqt_seeds(),
+            read: read_pdbqt,
             repair: None,
         },
         Reader {

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 /// Extensions bump reads (optionally followed by `.gz`).
 const READABLE: &[&str] = &[
-    ".pdb", ".ent", ".cif", ".mmcif", ".sdf", ".sd", ".mol", ".mol2",
+    ".pdb", ".ent", ".cif", ".mmcif", ".pdbqt", ".sdf", ".sd", ".mol", ".mol2",
 ];
 
 /// True when `name` looks like a structure file bump reads.

@@ -147,10 +147,13 @@ pub(crate) fn connect(
         );
     }
 
-    // Template residues.
+    // Template residues; not in a PDBQT ligand, whose torsion tree orders
+    // its atoms (a residue's atoms need not be together) and whose residue
+    // names Open Babel gives to look-alikes (a phenylalaninol as PHE).
+    let tree = mol.autodock.as_ref().is_some_and(|ad| ad.tree);
     let mut perceive = vec![true; n];
     for (r, &(s, e)) in residues.iter().enumerate() {
-        let Some(t) = template(&atoms[s as usize].residue) else {
+        let Some(t) = template(&atoms[s as usize].residue).filter(|_| !tree) else {
             continue;
         };
         let t: &'static Template = t;

@@ -16,12 +16,18 @@
 //!    intramolecular pairs ([`torsions`]);
 //! 6. Gasteiger–Marsili charges as Open Babel computes them ([`gasteiger`]).
 //!
+//! A molecule read from a PDBQT file keeps what the file states
+//! ([`autodock`]): Vina's types from its AutoDock types, the rotatable bonds
+//! of its torsion tree, its partial charges; and, as the file merges
+//! non-polar hydrogens into their carbons, a carbon's hydrogens are implicit.
+//!
 //! A molecule computes its chemistry when first asked
 //! ([`Molecule::chemistry`]), not when it is loaded. Nothing here panics on
 //! odd input: an atom whose chemistry cannot be perceived is reported in
 //! [`Chemistry::warnings`], naming it by file, serial and name.
 
 pub mod aromatic;
+pub mod autodock;
 pub mod connect;
 pub mod elements;
 pub mod gasteiger;
@@ -167,8 +173,19 @@ pub fn perceive(mol: &Molecule) -> Chemistry {
             residue_has_h[residue_of[p as usize] as usize] = true;
         }
     }
+    // A PDBQT merges its non-polar hydrogens into their carbons: where it
+    // has none, a carbon's hydrogens are not the file's to count.
+    let united = mol.autodock.as_ref().is_some_and(|ad| {
+        !ad.hydrogens
+            .iter()
+            .chain(&ad.atoms)
+            .any(|a| a.ad == autodock::AdType::H)
+    });
     let explicit_h: Vec<Option<u8>> = (0..n)
-        .map(|i| residue_has_h[residue_of[i] as usize].then_some(h_of[i]))
+        .map(|i| {
+            let merged = united && mol.atoms[i].element.as_str() == "C";
+            (residue_has_h[residue_of[i] as usize] && !merged).then_some(h_of[i])
+        })
         .collect();
 
     let mut conn = connect::connect(mol, &explicit_h, &mut warn);
@@ -181,13 +198,22 @@ pub fn perceive(mol: &Molecule) -> Chemistry {
     let adjacency = Adjacency::new(n, &conn.bonds);
     let bond_in_ring = rings::ring_bonds(&adjacency, conn.bonds.len());
 
+    // A PDBQT's score takes nothing from the bond orders (its types, tree
+    // and charges are the file's), and the file states no formal charges: a
+    // carboxylate or nitro O⁻ it holds cannot be told from a lone C=O, so
+    // the orders are drawn as found and not warned about.
+    let mut order_warnings = Warnings::default();
     orders::assign_orders(
         mol,
         &mut conn,
         &adjacency,
         &bond_in_ring,
         &explicit_h,
-        &mut warn,
+        if mol.autodock.is_some() {
+            &mut order_warnings
+        } else {
+            &mut warn
+        },
     );
     let (aromatic, bond_aromatic) =
         aromatic::perceive(mol, &conn, &adjacency, &bond_in_ring, &explicit_h);
@@ -201,24 +227,38 @@ pub fn perceive(mol: &Molecule) -> Chemistry {
         &bond_aromatic,
         &hydro,
     );
-    let xs = typing::xs_types(mol, &adjacency, &hybridisation, &hydro, &mut warn);
-    let torsions = torsions::build(
+    // A PDBQT states what Vina reads: its types, tree and charges stand.
+    let file = mol.autodock.as_ref();
+    let xs = match file {
+        Some(ad) => autodock::file_xs_types(mol, ad, &adjacency),
+        None => typing::xs_types(mol, &adjacency, &hybridisation, &hydro, &mut warn),
+    };
+    let given = file.and_then(|ad| {
+        autodock::file_rotatable(mol, ad, &conn.bonds, &adjacency, &bond_in_ring, &mut warn)
+    });
+    let held_count = given.as_ref().map_or(0.0, |g| g.held_count);
+    let mut torsions = torsions::build(
         mol,
         &conn.bonds,
         &adjacency,
         &bond_in_ring,
         &bond_aromatic,
         &hydro,
+        given.map(|g| g.rotatable),
     );
-    let charges = gasteiger::charges(
-        mol,
-        &conn.bonds,
-        &adjacency,
-        &aromatic,
-        &hybridisation,
-        &hydro,
-        &mut warn,
-    );
+    torsions.vina_count += held_count;
+    let charges = match file {
+        Some(ad) => autodock::file_charges(mol, ad),
+        None => gasteiger::charges(
+            mol,
+            &conn.bonds,
+            &adjacency,
+            &aromatic,
+            &hybridisation,
+            &hydro,
+            &mut warn,
+        ),
+    };
 
     Chemistry {
         bonds: conn.bonds,

@@ -113,7 +113,8 @@ fn rotatable(
     !conjugated
 }
 
-/// Builds the torsion tree.
+/// Builds the torsion tree: the rotatable bonds are `given` (per bond, as a
+/// PDBQT's tree states them) or perceived by the rule of the module docs.
 pub(crate) fn build(
     mol: &Molecule,
     bonds: &[Bond],
@@ -121,11 +122,14 @@ pub(crate) fn build(
     in_ring: &[bool],
     aromatic: &[bool],
     hydro: &Hydro,
+    given: Option<Vec<bool>>,
 ) -> TorsionTree {
     let n = mol.len();
-    let rot: Vec<bool> = (0..bonds.len())
-        .map(|k| rotatable(mol, bonds, adj, in_ring, aromatic, hydro, k))
-        .collect();
+    let rot: Vec<bool> = given.unwrap_or_else(|| {
+        (0..bonds.len())
+            .map(|k| rotatable(mol, bonds, adj, in_ring, aromatic, hydro, k))
+            .collect()
+    });
     // Fragments: components without the rotatable bonds.
     let mut frag = vec![u32::MAX; n];
     let mut frags: Vec<Vec<u32>> = Vec::new();

@@ -30,7 +30,8 @@ pub struct SceneArgs {
     /// (SEQ may end in an insertion code, as in 52A).
     #[arg(long)]
     pub ligand: Option<String>,
-    /// SDF record (or MOL2 molecule) to read from the drug file (1-based).
+    /// SDF record (MOL2 molecule, PDBQT model: a docking's pose) to read
+    /// from the drug file (1-based).
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_whole)]
     pub record: Option<usize>,
     /// Radius table: bondi (Bondi 1964, Mantina 2009) or thesis (Turk 1989).
@@ -243,7 +244,9 @@ impl SceneArgs {
     pub fn load(&self) -> anyhow::Result<LoadedScene> {
         let rule = self.rule()?;
         if self.record.is_some() && self.drug.is_none() {
-            bail!("--record picks a record of an SDF or MOL2 drug file; no drug file was given");
+            bail!(
+                "--record picks a record of an SDF, MOL2 or PDBQT drug file; no drug file was given"
+            );
         }
         let (receptor, drug, drug_source) = if self.receptor == "builtin" {
             if self.drug.is_some() || self.ligand.is_some() {

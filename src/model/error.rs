@@ -19,7 +19,7 @@ pub enum LoadError {
     },
     /// The extension names no format bump reads.
     #[error(
-        "{path}: unknown format (expected .pdb, .ent, .cif, .mmcif, .sdf, .mol or .mol2, optionally .gz)"
+        "{path}: unknown format (expected .pdb, .ent, .cif, .mmcif, .pdbqt, .sdf, .mol or .mol2, optionally .gz)"
     )]
     UnknownFormat {
         /// The file.
@@ -56,9 +56,10 @@ pub enum LoadError {
         /// Water atoms it had.
         waters: usize,
     },
-    /// A record number was asked of a file that has no records (not SDF or MOL2).
+    /// A record number was asked of a file that has no records (not SDF,
+    /// MOL2 or PDBQT).
     #[error(
-        "{path}: record {record} was asked for, but only SDF and MOL2 files hold several records; a PDB or mmCIF file is read whole (its first model)"
+        "{path}: record {record} was asked for, but only SDF, MOL2 and PDBQT files hold several records; a PDB or mmCIF file is read whole (its first model)"
     )]
     NotRecords {
         /// The file.

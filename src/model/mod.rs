@@ -1,5 +1,5 @@
-//! Molecules: atoms, elements and radii, loading from PDB, mmCIF and SDF files,
-//! splitting a complex into receptor and drug, and the built-in scene.
+//! Molecules: atoms, elements and radii, loading from PDB, mmCIF, PDBQT, SDF and
+//! MOL2 files, splitting a complex into receptor and drug, and the built-in scene.
 //!
 //! Loading gives a [`Structure`]: every kept atom of the first model, with
 //! alternate locations resolved and hydrogens dropped or kept as asked.
@@ -15,6 +15,7 @@ pub mod label;
 pub mod mol2;
 pub mod molecule;
 pub mod pdb;
+pub mod pdbqt;
 pub mod sdf;
 pub mod select;
 mod small;
@@ -29,6 +30,7 @@ pub use element::RadiiSet;
 pub use error::LoadError;
 pub use label::Label;
 pub use molecule::{AtomInfo, AttachedHydrogens, Molecule};
+pub use pdbqt::{AdAtom, AutoDockData};
 pub use select::{
     LigandSpec, receptor_only, receptor_only_owned, split_complex, split_complex_owned,
 };
@@ -53,9 +55,9 @@ pub struct LoadOptions {
     pub radii: RadiiSet,
     /// Keep or drop hydrogens.
     pub hydrogens: Hydrogens,
-    /// For SDF and MOL2 files: which record (molecule, 1-based); the first
-    /// when `None`. Other formats have no records and refuse one
-    /// ([`LoadError::NotRecords`]).
+    /// For SDF and MOL2 files: which record (molecule, 1-based); for PDBQT
+    /// which model (a docking's pose); the first when `None`. PDB and mmCIF
+    /// have no records and refuse one ([`LoadError::NotRecords`]).
     pub sdf_record: Option<usize>,
     /// Most bytes a gzipped file may decompress to; past it the file is
     /// refused ([`LoadError::TooLarge`]). `None`: the environment variable
@@ -141,6 +143,9 @@ pub struct FileChemistry {
     pub bonds_complete: bool,
     /// True for a small-molecule file (SDF/MOL, MOL2).
     pub from_sdf: bool,
+    /// What a PDBQT file states for scoring: AutoDock types, charges and
+    /// the torsion tree's rotatable bonds; `None` for other formats.
+    pub autodock: Option<AutoDockData>,
 }
 
 /// The order of a bond as a file gives it.
@@ -181,9 +186,9 @@ pub struct Loaded {
     pub warnings: Vec<String>,
 }
 
-/// Reads a PDB, mmCIF, SDF or MOL2 file (plain or gzipped), chosen by
-/// extension (`.pdb`, `.ent`, `.cif`, `.mmcif`, `.sdf`, `.mol`, `.mol2`,
-/// each optionally `.gz`).
+/// Reads a PDB, mmCIF, PDBQT, SDF or MOL2 file (plain or gzipped), chosen
+/// by extension (`.pdb`, `.ent`, `.cif`, `.mmcif`, `.pdbqt`, `.sdf`, `.mol`,
+/// `.mol2`, each optionally `.gz`).
 ///
 /// # Errors
 /// [`LoadError`] naming the file (and line, when known) for an unreadable file,
@@ -199,8 +204,10 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
         || stem.ends_with(".ent")
         || stem.ends_with(".cif")
         || stem.ends_with(".mmcif")
+        || stem.ends_with(".pdbqt")
     {
-        if let Some(record) = opts.sdf_record {
+        let pdbqt = stem.ends_with(".pdbqt");
+        if let (Some(record), false) = (opts.sdf_record, pdbqt) {
             return Err(LoadError::NotRecords {
                 path: path.display().to_string(),
                 record,
@@ -212,7 +219,11 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
             hydrogens: Hydrogens::Keep,
             ..opts.clone()
         };
-        let mut loaded = pdb::load_pdb_or_mmcif(path, &keep)?;
+        let mut loaded = if pdbqt {
+            pdbqt::load_pdbqt(path, &keep)?
+        } else {
+            pdb::load_pdb_or_mmcif(path, &keep)?
+        };
         if opts.hydrogens == Hydrogens::Drop {
             let dropped = set_hydrogens_apart(&mut loaded.structure);
             if loaded.structure.atoms.is_empty() {
@@ -357,6 +368,9 @@ pub fn set_hydrogens_apart(s: &mut Structure) -> usize {
     } else {
         Vec::new()
     };
+    if let Some(ad) = s.file_chem.autodock.as_mut() {
+        split_autodock(ad, &is_h, &new_index);
+    }
     let mut k = 0;
     s.atoms.retain(|_| {
         k += 1;
@@ -374,6 +388,35 @@ pub fn set_hydrogens_apart(s: &mut Structure) -> usize {
     s.file_chem.formal_charges = charges;
     s.file_chem.hydrogens.extend(hydrogens);
     moved
+}
+
+/// Splits a structure's AutoDock data as its atoms are split into heavy
+/// atoms and hydrogens kept apart (`is_h`; heavy atom `i` becomes
+/// `new_index[i]`): hydrogens in file order, as
+/// [`set_hydrogens_apart`] lists them, and branches between heavy atoms.
+fn split_autodock(ad: &mut AutoDockData, is_h: &[bool], new_index: &[usize]) {
+    if ad.atoms.len() != is_h.len() {
+        return;
+    }
+    let all = std::mem::take(&mut ad.atoms);
+    for (a, &h) in all.into_iter().zip(is_h) {
+        if h {
+            ad.hydrogens.push(a);
+        } else {
+            ad.atoms.push(a);
+        }
+    }
+    ad.branches = ad
+        .branches
+        .iter()
+        .filter(|[a, b]| !is_h[*a as usize] && !is_h[*b as usize])
+        .filter_map(|[a, b]| {
+            Some([
+                u32::try_from(new_index[*a as usize]).ok()?,
+                u32::try_from(new_index[*b as usize]).ok()?,
+            ])
+        })
+        .collect();
 }
 
 /// Largest coordinate magnitude, in Å, accepted from a file. Atoms are

@@ -134,6 +134,10 @@ pub struct Molecule {
     pub bonds_complete: bool,
     /// True when the molecule came from a small-molecule file (SDF/MOL, MOL2).
     pub from_sdf: bool,
+    /// What a PDBQT file states for scoring (AutoDock types and charges per
+    /// atom and kept hydrogen, the torsion tree's rotatable bonds), indexed
+    /// like `atoms` and `hydrogens`; `None` for other formats.
+    pub autodock: Option<super::AutoDockData>,
     /// The perceived chemistry, computed when first asked for. Set the
     /// fields above before that.
     chemistry: OnceLock<Arc<Chemistry>>,
@@ -160,6 +164,7 @@ impl Molecule {
             formal_charges: Vec::new(),
             bonds_complete: false,
             from_sdf: false,
+            autodock: None,
             chemistry: OnceLock::new(),
         }
     }

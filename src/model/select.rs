@@ -15,7 +15,8 @@
 //!   residues of its chain (a modified residue, such as a tRNA's modified
 //!   nucleotides), which are part of the polymer.
 //!
-//! The receptor is every other atom except waters. Errors name the file and
+//! The receptor is every other atom except waters (a PDBQT keeps its
+//! waters: it was prepared for docking, and Vina scores them). Errors name the file and
 //! list the hetero residues that are present, so the user can name one.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
@@ -24,7 +25,9 @@ use std::str::FromStr;
 
 use glam::DVec3;
 
-use super::{AtomInfo, FileBond, FileChemistry, LoadError, Molecule, Structure, is_water};
+use super::{
+    AtomInfo, AutoDockData, FileBond, FileChemistry, LoadError, Molecule, Structure, is_water,
+};
 use crate::chem::Bond;
 
 /// Hetero residue names `auto` never picks: ions and small inorganic groups,
@@ -415,7 +418,7 @@ pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Mole
         in_drug[i] = true;
     }
     let receptor_atoms: Vec<usize> = (0..s.atoms.len())
-        .filter(|&i| !in_drug[i] && !is_water(&s.atoms[i].residue))
+        .filter(|&i| !in_drug[i] && !left_out(&s, i))
         .collect();
     if receptor_atoms.is_empty() {
         return Err(LoadError::Ligand {
@@ -465,10 +468,28 @@ fn attach_file_chemistry(
     }
     mol.bonds_complete = fc.bonds_complete && indices.len() == total;
     mol.from_sdf = fc.from_sdf;
-    for h in &fc.hydrogens {
+    let file_ad = fc
+        .autodock
+        .as_ref()
+        .filter(|ad| ad.atoms.len() == total && ad.hydrogens.len() == fc.hydrogens.len());
+    let mut ad = file_ad.map(|ad| AutoDockData {
+        atoms: indices.iter().map(|&i| ad.atoms[i]).collect(),
+        hydrogens: Vec::new(),
+        branches: ad
+            .branches
+            .iter()
+            .map(|&[a, b]| [new_index[a as usize], new_index[b as usize]])
+            .filter(|[a, b]| *a != u32::MAX && *b != u32::MAX)
+            .collect(),
+        tree: ad.tree,
+    });
+    for (k, h) in fc.hydrogens.iter().enumerate() {
         let Some(p) = h.parent.filter(|&p| new_index[p] != u32::MAX) else {
             continue;
         };
+        if let (Some(ad), Some(file)) = (ad.as_mut(), file_ad) {
+            ad.hydrogens.push(file.hydrogens[k]);
+        }
         // Written before the first kept atom at or after its place.
         let before = indices.partition_point(|&i| i < h.before);
         mol.hydrogens.push(
@@ -479,6 +500,13 @@ fn attach_file_chemistry(
             &h.atom.name,
         );
     }
+    mol.autodock = ad;
+}
+
+/// True when atom `i` of `s` is left out of a receptor: a water, unless the
+/// file is a PDBQT, prepared for docking, whose waters Vina scores.
+fn left_out(s: &Structure, i: usize) -> bool {
+    s.file_chem.autodock.is_none() && is_water(&s.atoms[i].residue)
 }
 
 /// The whole structure as a receptor: every atom except waters, named
@@ -488,9 +516,7 @@ fn attach_file_chemistry(
 /// [`LoadError::OnlyWaters`] when only waters remain, [`LoadError::NoAtoms`]
 /// when nothing does.
 pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
-    let indices: Vec<usize> = (0..s.atoms.len())
-        .filter(|&i| !is_water(&s.atoms[i].residue))
-        .collect();
+    let indices: Vec<usize> = (0..s.atoms.len()).filter(|&i| !left_out(&s, i)).collect();
     if indices.is_empty() {
         return Err(if s.atoms.is_empty() {
             LoadError::NoAtoms {
@@ -527,7 +553,7 @@ pub fn split_complex_owned(
         in_drug[i] = true;
     }
     let receptor_indices: Vec<usize> = (0..s.atoms.len())
-        .filter(|&i| !in_drug[i] && !is_water(&s.atoms[i].residue))
+        .filter(|&i| !in_drug[i] && !left_out(&s, i))
         .collect();
     drop(in_drug);
     if receptor_indices.is_empty() {
@@ -582,9 +608,7 @@ fn molecule_moved(s: Structure, indices: &[usize], name: impl Fn(&str) -> String
 /// # Errors
 /// As [`receptor_only`].
 pub fn receptor_only_owned(s: Structure) -> Result<Molecule, LoadError> {
-    let indices: Vec<usize> = (0..s.atoms.len())
-        .filter(|&i| !is_water(&s.atoms[i].residue))
-        .collect();
+    let indices: Vec<usize> = (0..s.atoms.len()).filter(|&i| !left_out(&s, i)).collect();
     if indices.is_empty() {
         return Err(if s.atoms.is_empty() {
             LoadError::NoAtoms {

@@ -66,6 +66,7 @@ pub(super) fn loaded(
             },
             bonds_complete: record.bonds_stated || n_atoms == 1,
             from_sdf: true,
+            autodock: None,
         },
     };
     let dropped = if opts.hydrogens == Hydrogens::Drop {
