@@ -1,7 +1,8 @@
 //! `bump score` and `bump settle` end to end: Vina's numbers for a shared
 //! complex, the report's parts adding up, a settled drug that an independent
 //! `bump check` finds clear, and a drug whose chemistry cannot be perceived
-//! scored with a warning naming the atom.
+//! scored with a warning naming the atom, and a Vina docking's PDBQT poses
+//! scored as Vina scores them.
 
 #![allow(clippy::unwrap_used)]
 
@@ -327,4 +328,40 @@ fn a_mol2_drug_scores_as_its_sdf() {
         };
         assert_eq!(types(&a), types(&b), "{drug}");
     }
+}
+
+/// A Vina docking's output read by its models: `--record N` scores pose N
+/// against the PDBQT receptor as Vina scores it (`tests/data/pdbqt`).
+#[test]
+fn score_reads_a_dockings_poses_from_pdbqt() {
+    let text = std::fs::read_to_string("tests/data/pdbqt/values.json").unwrap();
+    let v: Value = serde_json::from_str(&text).unwrap();
+    for model in 1..=3 {
+        let want = &v["ligands"][format!("dock_out.pdbqt#{model}")]["poses"][0]["vina"];
+        let got = json(&[
+            "score",
+            "tests/data/pdbqt/receptor.pdbqt",
+            "tests/data/pdbqt/dock_out.pdbqt",
+            "--record",
+            &model.to_string(),
+            "--json",
+        ]);
+        for what in ["total", "inter", "intra"] {
+            assert!(
+                (f(&got[what]) - f(&want[what])).abs() < 1e-5,
+                "model {model} {what}: bump {}, Vina {}",
+                got[what],
+                want[what]
+            );
+        }
+    }
+    let out = bump(&[
+        "score",
+        "tests/data/pdbqt/receptor.pdbqt",
+        "tests/data/pdbqt/dock_out.pdbqt",
+        "--record",
+        "4",
+    ]);
+    let err = common::cli::stderr(&out);
+    assert!(!out.status.success() && err.contains("model 4"), "{err}");
 }
