@@ -477,7 +477,7 @@ fn nucleic_acids_get_their_phosphates_and_keto_bases() {
     expect("YYG", 37, "O6", XsType::O_A, 0);
 }
 
-/// Bond orders perceived from coordinates alone: 85 drug-like molecules
+/// Bond orders perceived from coordinates alone: 95 drug-like molecules
 /// written as heavy atoms without bonds (lactams, imides, purines and
 /// pyrimidines, azoles, nitro groups, sulfonamides; `values.json` beside
 /// `make_perception.py`), each N and O typed as Open Babel types it from

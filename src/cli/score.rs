@@ -387,7 +387,7 @@ fn print_report(report: &ScoreReport) {
             .map_or(String::new(), |ms| format!("; maps built in {ms:.0} ms"))
     );
     outln!(
-        "coulomb {:.3} kcal/mol (Gasteiger charges, AutoDock 4 dielectric; not in the score)",
+        "coulomb {:.3} kcal/mol (Gasteiger charges, or a PDBQT's own; AutoDock 4 dielectric; not in the score)",
         report.coulomb
     );
     outln!("terms (weighted, intermolecular / intramolecular):");
