@@ -418,7 +418,7 @@ pub fn split_complex(s: &Structure, spec: &LigandSpec) -> Result<(Molecule, Mole
         in_drug[i] = true;
     }
     let receptor_atoms: Vec<usize> = (0..s.atoms.len())
-        .filter(|&i| !in_drug[i] && !left_out(&s, i))
+        .filter(|&i| !in_drug[i] && !left_out(s, i))
         .collect();
     if receptor_atoms.is_empty() {
         return Err(LoadError::Ligand {
@@ -516,7 +516,7 @@ fn left_out(s: &Structure, i: usize) -> bool {
 /// [`LoadError::OnlyWaters`] when only waters remain, [`LoadError::NoAtoms`]
 /// when nothing does.
 pub fn receptor_only(s: &Structure) -> Result<Molecule, LoadError> {
-    let indices: Vec<usize> = (0..s.atoms.len()).filter(|&i| !left_out(&s, i)).collect();
+    let indices: Vec<usize> = (0..s.atoms.len()).filter(|&i| !left_out(s, i)).collect();
     if indices.is_empty() {
         return Err(if s.atoms.is_empty() {
             LoadError::NoAtoms {
