@@ -365,3 +365,38 @@ fn score_reads_a_dockings_poses_from_pdbqt() {
     let err = common::cli::stderr(&out);
     assert!(!out.status.success() && err.contains("model 4"), "{err}");
 }
+
+/// `bump settle -o OUT.pdbqt` on a PDBQT drug writes it with its torsion
+/// tree, types and charges: read back, it has the same rotatable bonds and
+/// scores what settle reported (exact evaluator; coordinates to 3 decimals).
+#[test]
+fn settle_writes_a_pdbqt_drug_as_pdbqt() {
+    let dir = tempdir("pdbqt");
+    let out = dir.join("settled.pdbqt");
+    let out_s = out.display().to_string();
+    let rec = "tests/data/pdbqt/receptor.pdbqt";
+    let settled = json(&[
+        "settle",
+        rec,
+        "tests/data/pdbqt/lig3_meeko.pdbqt",
+        "--move",
+        "0.6,-0.4,0.3",
+        "--evaluator",
+        "exact",
+        "-o",
+        &out_s,
+        "--json",
+    ]);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.contains("ROOT") && text.contains("TORSDOF 9"),
+        "{text}"
+    );
+    let back = json(&["score", rec, &out_s, "--json"]);
+    let original = json(&["score", rec, "tests/data/pdbqt/lig3_meeko.pdbqt", "--json"]);
+    assert_eq!(back["rotatable_bonds"], original["rotatable_bonds"]);
+    assert_eq!(back["torsion_count"], original["torsion_count"]);
+    let (got, want) = (f(&back["total"]), f(&settled["after"]["total"]));
+    assert!((got - want).abs() < 0.01, "written {got}, settled {want}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

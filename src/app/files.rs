@@ -12,9 +12,10 @@ use crate::session::{Command, labels};
 
 impl App {
     /// Writes molecule `b`, in the first molecule's (the receptor's) file
-    /// frame, as `<name>-docked.pdb` and `.sdf` in the current folder (or
-    /// `-2`, `-3`, … when taken); says what was written. `true` when both
-    /// files were written.
+    /// frame, as `<name>-docked.pdb` and `.sdf` (and `.pdbqt`, with its
+    /// torsion tree, for a molecule read from a PDBQT) in the current folder
+    /// (or `-2`, `-3`, … when taken); says what was written. `true` when
+    /// every file was written.
     pub(super) fn save_pose(&mut self, b: usize) -> bool {
         let Some(pose) = self.session.pose_in_frame_of(b, 0) else {
             return false;
@@ -22,7 +23,12 @@ impl App {
         let mol = &self.session.bodies()[b].molecule;
         let stem = format!("{}-docked", saving::file_stem(&mol.name));
         let dir = std::env::current_dir().unwrap_or_else(|_| PathBuf::from("."));
-        let paths = match saving::free_names(&dir, &stem, &["pdb", "sdf"]) {
+        let extensions: &[&str] = if mol.autodock.is_some() {
+            &["pdb", "sdf", "pdbqt"]
+        } else {
+            &["pdb", "sdf"]
+        };
+        let paths = match saving::free_names(&dir, &stem, extensions) {
             Ok(p) => p,
             Err(e) => {
                 self.hud.say(format!("not saved: {e}"));
@@ -32,10 +38,10 @@ impl App {
         let mut said = Vec::new();
         let mut ok = true;
         for (k, path) in paths.iter().enumerate() {
-            let written = if k == 0 {
-                model::write::write_pdb(mol, &pose, path)
-            } else {
-                model::write::write_sdf(mol, &pose, path)
+            let written = match k {
+                0 => model::write::write_pdb(mol, &pose, path),
+                1 => model::write::write_sdf(mol, &pose, path),
+                _ => model::write::write_pdbqt(mol, &pose, path),
             };
             match written {
                 Ok(()) => said.push(shown(path)),

@@ -360,7 +360,7 @@ pub const TABLE: &[Entry] = &[
     row(
         &[(K::KeyS, Mods::CTRL)],
         W(ShellAction::SavePose),
-        "save the selected molecule in the receptor's frame as NAME-docked.pdb and .sdf (never overwrites: -2, -3, …)",
+        "save the selected molecule in the receptor's frame as NAME-docked.pdb and .sdf, and .pdbqt when it was read from one (never overwrites: -2, -3, …)",
     ),
     row(
         &[(K::KeyO, Mods::CTRL)],

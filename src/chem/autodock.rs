@@ -134,6 +134,35 @@ impl AdType {
         })
     }
 
+    /// The type's name as a PDBQT file writes it.
+    pub fn name(self) -> &'static str {
+        const CG: [&str; 4] = ["CG0", "CG1", "CG2", "CG3"];
+        const G: [&str; 4] = ["G0", "G1", "G2", "G3"];
+        match self {
+            Self::C => "C",
+            Self::A => "A",
+            Self::N => "N",
+            Self::NA => "NA",
+            Self::O => "O",
+            Self::OA => "OA",
+            Self::S => "S",
+            Self::SA => "SA",
+            Self::P => "P",
+            Self::H => "H",
+            Self::HD => "HD",
+            Self::F => "F",
+            Self::Cl => "Cl",
+            Self::Br => "Br",
+            Self::I => "I",
+            Self::Si => "Si",
+            Self::At => "At",
+            Self::Cg(n) => CG[usize::from(n.min(3))],
+            Self::G(n) => G[usize::from(n.min(3))],
+            Self::W => "W",
+            Self::Metal(e) => e,
+        }
+    }
+
     /// True for `H` and `HD`.
     pub fn is_hydrogen(self) -> bool {
         matches!(self, Self::H | Self::HD)

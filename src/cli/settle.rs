@@ -30,7 +30,8 @@ pub struct SettleArgs {
     #[arg(long, default_value = "maps", value_parser = parse_evaluator)]
     pub evaluator: Evaluator,
     /// Write the settled drug (with its bonds and hydrogens) to this file:
-    /// SDF, or PDB when the name ends in .pdb.
+    /// SDF, PDB when the name ends in .pdb, PDBQT (with its torsion tree,
+    /// for Vina) when it ends in .pdbqt and the drug was read from a PDBQT.
     #[arg(short = 'o', long = "output", value_name = "OUT.sdf")]
     pub output: Option<PathBuf>,
     /// Most minimisation steps.
@@ -147,13 +148,13 @@ pub fn run(args: &SettleArgs) -> anyhow::Result<()> {
         Some(path) => {
             let mol = settled_molecule(&scene.drug, &p.lig, &s.conf.torsions);
             let pose = scene.world_from_relative(&s.conf.pose);
-            let pdb = path
+            let ext = path
                 .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("pdb"));
-            if pdb {
-                write::write_pdb(&mol, &pose, path)
-            } else {
-                write::write_sdf(&mol, &pose, path)
+                .map(|e| e.to_string_lossy().to_ascii_lowercase());
+            match ext.as_deref() {
+                Some("pdb") => write::write_pdb(&mol, &pose, path),
+                Some("pdbqt") => write::write_pdbqt(&mol, &pose, path),
+                _ => write::write_sdf(&mol, &pose, path),
             }
             .with_context(|| format!("writing the settled drug to {}", path.display()))?;
             Some(path.display().to_string())

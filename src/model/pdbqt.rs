@@ -3,10 +3,10 @@
 //!
 //! A PDBQT atom record is a PDB one up to column 66, then a partial charge
 //! (columns 69–76) and an AutoDock type (column 78 to the line's end, as
-//! Vina reads it: `A`, `NA`, `OA`, `HD`, Meeko's `CG0`, …, case-sensitive); a ligand also has a torsion
-//! tree (`ROOT`, `BRANCH a b`, `ENDBRANCH`, `TORSDOF`). A docking's output
-//! holds one pose per `MODEL`; [`LoadOptions::sdf_record`] picks one
-//! (1-based, the first by default).
+//! Vina reads it: `A`, `NA`, `OA`, `HD`, Meeko's `CG0`, …, case-sensitive);
+//! a ligand also has a torsion tree (`ROOT`, `BRANCH a b`, `ENDBRANCH`,
+//! `TORSDOF`). A docking's output holds one pose per `MODEL`;
+//! [`LoadOptions::sdf_record`] picks one (1-based, the first by default).
 //!
 //! The reader turns each atom record into a PDB record whose element is its
 //! type's and reads those through the PDB reader (same checks, same
@@ -14,10 +14,19 @@
 //! the file states for scoring ([`AutoDockData`]): each atom's type and
 //! charge, the rotatable bonds of its tree (the `BRANCH` records), so that
 //! the chemistry types atoms and counts torsions as Vina does from the same
-//! file. Macrocycle closure and water pseudo-atoms (`G0`–`G3`, `W`) are not
-//! atoms: they are left out with a warning. An unknown type, a charge that
-//! is not a number, a `BRANCH` naming an atom the file does not have, or a
-//! model past the last is an error naming the file's line.
+//! file.
+//!
+//! - Macrocycle closure and water pseudo-atoms (`G0`–`G3`, `W`) are not
+//!   atoms: they are left out with a warning.
+//! - The side chains a flexible docking's output holds beside the ligand
+//!   (`BEGIN_RES` … `END_RES`) are the receptor's: they are left out too,
+//!   unless the file holds nothing else (a flexible-residue input file).
+//! - A receptor's waters are kept (see [`super::select`]).
+//! - An unknown type, a charge that is not a number, a `BRANCH` naming an
+//!   atom the file does not have, or a model past the last is an error
+//!   naming the file's line.
+//!
+//! [`super::write::pdbqt_text`] writes such a molecule back, with its tree.
 
 use std::path::Path;
 
@@ -60,6 +69,10 @@ struct Record {
     name: String,
     position: Option<DVec3>,
     atom: AdAtom,
+    /// Where its PDB line lies in the text given to the PDB reader.
+    line: std::ops::Range<usize>,
+    /// Inside a `BEGIN_RES` … `END_RES` block (a flexible residue).
+    flexible: bool,
 }
 
 /// Reads one model of a PDBQT file (plain, or gzipped `.pdbqt.gz`).
@@ -95,6 +108,8 @@ pub fn parse_pdbqt(
     let mut tree = false;
     let mut pseudo = 0usize;
     let (mut models, mut in_model) = (0usize, false);
+    let mut in_residue = false;
+    let mut notes = Vec::new();
     for (k, line) in crate::text::lines::split_str(text).enumerate() {
         let number = k + 1;
         let line = line.trim_end_matches(['\r', '\n']);
@@ -125,8 +140,19 @@ pub fn parse_pdbqt(
                 pdb.push('\n');
                 continue;
             }
+            let start = pdb.len();
             push_as_pdb(&mut pdb, line, record.atom.ad);
-            records.push(record);
+            records.push(Record {
+                line: start..pdb.len() - 1,
+                flexible: in_residue,
+                ..record
+            });
+        } else if line.starts_with("BEGIN_RES") {
+            in_residue = true;
+            pdb.push('\n');
+        } else if line.starts_with("END_RES") {
+            in_residue = false;
+            pdb.push('\n');
         } else if line.starts_with("ROOT") {
             tree = true;
             pdb.push('\n');
@@ -151,6 +177,25 @@ pub fn parse_pdbqt(
             // nothing the structure needs.
             pdb.push('\n');
         }
+    }
+    // A flexible docking's output holds the moved side chains beside the
+    // ligand, in BEGIN_RES blocks: they belong to the receptor, not the
+    // drug. A file of nothing but such blocks (Vina's flex input) is read
+    // whole.
+    let flexible = records.iter().filter(|r| r.flexible).count();
+    if flexible > 0 && flexible < records.len() {
+        for r in records.iter().filter(|r| r.flexible) {
+            // Spaces keep the line numbers; the PDB reader passes them by.
+            pdb.replace_range(r.line.clone(), &" ".repeat(r.line.len()));
+        }
+        records.retain(|r| !r.flexible);
+        branches.retain(|&(a, b, _)| {
+            records.iter().any(|r| r.serial == a) && records.iter().any(|r| r.serial == b)
+        });
+        notes.push(format!(
+            "{label}: {flexible} atom(s) of flexible residues (BEGIN_RES blocks) are the \
+             receptor's side chains, not the drug's; left out"
+        ));
     }
     if want > models.max(1) {
         return Err(LoadError::parse_at(
@@ -222,6 +267,7 @@ pub fn parse_pdbqt(
         branches: pairs,
         tree,
     });
+    loaded.warnings.extend(notes);
     if pseudo > 0 {
         loaded.warnings.push(format!(
             "{label}: {pseudo} pseudo-atom(s) (macrocycle closure G0-G3, hydrated docking's W) \
@@ -282,6 +328,8 @@ fn atom_record(line: &str) -> Result<Record, (usize, String)> {
         name: field(12..16).to_string(),
         position,
         atom: AdAtom { ad, charge },
+        line: 0..0,
+        flexible: false,
     })
 }
 
@@ -451,6 +499,34 @@ ATOM      3  O   HOH A 101       5.000   0.000   0.000  1.00  0.00    -0.410 OA
             crate::model::pdb::parse_bytes(pdb.as_bytes(), Format::Pdb, "r.pdb", "r.pdb", &opts())
                 .unwrap();
         assert_eq!(crate::model::receptor_only(&p.structure).unwrap().len(), 2);
+    }
+
+    #[test]
+    fn a_flexible_dockings_side_chains_are_not_the_drugs() {
+        let out = format!(
+            "MODEL 1\n{LIGAND}BEGIN_RES SER A  70\nREMARK  residue\nROOT\n\
+ATOM     20  CA  SER A  70       8.000   0.000   0.000  1.00  0.00     0.200 C \n\
+ENDROOT\nBRANCH  20  21\n\
+ATOM     21  CB  SER A  70       9.500   0.000   0.000  1.00  0.00     0.200 C \n\
+ENDBRANCH  20  21\nEND_RES SER A  70\nENDMDL\n"
+        );
+        let l = parse_pdbqt(&out, "out.pdbqt", "out.pdbqt", &opts()).unwrap();
+        assert_eq!(l.structure.atoms.len(), 8);
+        assert_eq!(
+            l.structure.file_chem.autodock.as_ref().unwrap().branches,
+            vec![[5, 6]]
+        );
+        assert!(
+            l.warnings.iter().any(|w| w.contains("flexible residues")),
+            "{:?}",
+            l.warnings
+        );
+        // A flex file alone (nothing but residues) is read whole.
+        let flex = "BEGIN_RES SER A  70\nROOT\n\
+ATOM     20  CA  SER A  70       8.000   0.000   0.000  1.00  0.00     0.200 C \n\
+ENDROOT\nEND_RES SER A  70\n";
+        let l = parse_pdbqt(flex, "flex.pdbqt", "flex.pdbqt", &opts()).unwrap();
+        assert_eq!(l.structure.atoms.len(), 1);
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! Writing a molecule at a pose: PDB and SDF (V2000, or V3000 past 999
-//! atoms or bonds).
+//! Writing a molecule at a pose: PDB, SDF (V2000, or V3000 past 999 atoms
+//! or bonds), and PDBQT for a molecule read from one ([`pdbqt_text`]).
 //!
 //! Coordinates are the molecule's atoms placed by a pose — for a docked drug,
 //! its pose in the receptor file's frame, so the file lines up with the
@@ -306,6 +306,181 @@ pub fn sdf_text(mol: &Molecule, pose: &Pose) -> String {
     out
 }
 
+/// PDBQT text for `mol` placed by `pose`, for a molecule read from a PDBQT
+/// file: each atom with the AutoDock type and charge the file gave it, and,
+/// when the file had a torsion tree, the tree of the molecule's rotatable
+/// bonds (`ROOT`, nested `BRANCH` records, `TORSDOF`), so that AutoDock Vina
+/// reads back what bump scored. Atoms are numbered afresh in the order
+/// written (each node's atoms in the file's order, a branch's axis atom
+/// first). `None` for a molecule without AutoDock types (another format:
+/// its polar hydrogens may not be in the file, and Vina needs them placed;
+/// prepare it with Meeko or Open Babel).
+pub fn pdbqt_text(mol: &Molecule, pose: &Pose) -> Option<String> {
+    let ad = mol.autodock.as_ref()?;
+    if ad.atoms.len() != mol.len() || ad.hydrogens.len() != mol.hydrogens.len() {
+        return None;
+    }
+    let order = file_order(mol);
+    let mut rank_heavy = vec![0usize; mol.len()];
+    let mut rank_h = vec![0usize; mol.hydrogens.len()];
+    for (k, e) in order.iter().enumerate() {
+        match *e {
+            Entry::Heavy(i) => rank_heavy[i] = k,
+            Entry::Hydrogen(h) => rank_h[h] = k,
+        }
+    }
+    let mut out = String::new();
+    let _ = writeln!(out, "REMARK  Name = {}", mol.name);
+    let _ = writeln!(out, "REMARK  written by bump, in the receptor's frame");
+    // One atom record numbered `serial`; false for a hydrogen without its
+    // heavy atom (not written).
+    let line = |out: &mut String, e: Entry, serial: usize| -> bool {
+        let (a, name, ad_atom) = match e {
+            Entry::Heavy(i) => (&mol.atoms[i], mol.atoms[i].name.as_str(), ad.atoms[i]),
+            Entry::Hydrogen(h) => {
+                let p = mol.hydrogens.parent[h] as usize;
+                let Some(a) = mol.atoms.get(p) else {
+                    return false;
+                };
+                (a, mol.hydrogens.name(h), ad.hydrogens[h])
+            }
+        };
+        let p = placed(mol, pose, e);
+        let record = if a.hetero { "HETATM" } else { "ATOM  " };
+        let element = ad_atom.ad.element().unwrap_or("X");
+        let name = if name.len() < 4 && element.len() == 1 {
+            format!(" {name:<3}")
+        } else {
+            format!("{name:<4}")
+        };
+        let chain = a.chain.chars().next().unwrap_or(' ');
+        let ins = a.insertion.chars().next().unwrap_or(' ');
+        let _ = writeln!(
+            out,
+            "{record}{:>5} {name:.4} {:>3} {chain}{:>4}{ins}   {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}    {:>+6.3} {}",
+            serial % 100_000,
+            a.residue.chars().take(3).collect::<String>(),
+            a.seq.rem_euclid(10_000),
+            p.x,
+            p.y,
+            p.z,
+            1.0,
+            0.0,
+            ad_atom.charge,
+            ad_atom.ad.name()
+        );
+        true
+    };
+    let mut serial_of = vec![0usize; mol.len()];
+    let mut next = 1usize;
+    let mut atom_line = |out: &mut String, e: Entry, serial_of: &mut [usize]| {
+        if line(out, e, next) {
+            if let Entry::Heavy(i) = e {
+                serial_of[i] = next;
+            }
+            next += 1;
+        }
+    };
+    if !ad.tree {
+        // A rigid molecule (a receptor): its atoms as they were.
+        for &e in &order {
+            atom_line(&mut out, e, &mut serial_of);
+        }
+        return Some(out);
+    }
+    let tree = &mol.chemistry().torsions;
+    // A node's members in the file's order, `first` (a branch's axis atom)
+    // before the rest.
+    let members = |n: usize, first: Option<u32>| -> Vec<Entry> {
+        let node = &tree.nodes[n];
+        let mut m: Vec<(usize, Entry)> = node
+            .atoms
+            .iter()
+            .map(|&i| (rank_heavy[i as usize], Entry::Heavy(i as usize)))
+            .chain(
+                node.hydrogens
+                    .iter()
+                    .map(|&h| (rank_h[h as usize], Entry::Hydrogen(h as usize))),
+            )
+            .collect();
+        m.sort_by_key(|&(r, e)| (!matches!(e, Entry::Heavy(i) if Some(i as u32) == first), r));
+        m.into_iter().map(|(_, e)| e).collect()
+    };
+    out.push_str("ROOT\n");
+    let roots: Vec<usize> = (0..tree.nodes.len())
+        .filter(|&n| tree.nodes[n].parent.is_none())
+        .collect();
+    for &r in &roots {
+        for e in members(r, None) {
+            atom_line(&mut out, e, &mut serial_of);
+        }
+    }
+    out.push_str("ENDROOT\n");
+    // Depth first: (node, entering) pairs, a branch closed when left.
+    let mut branch = String::new();
+    let mut stack: Vec<(usize, bool)> = roots
+        .iter()
+        .rev()
+        .flat_map(|&r| {
+            tree.nodes[r]
+                .children
+                .iter()
+                .rev()
+                .map(|&c| (c as usize, true))
+        })
+        .collect();
+    while let Some((n, entering)) = stack.pop() {
+        let Some(b) = tree.nodes[n].bond.and_then(|b| tree.bonds.get(b as usize)) else {
+            continue;
+        };
+        if entering {
+            let from = serial_of[b.parent_atom as usize];
+            let mut first = true;
+            for e in members(n, Some(b.child_atom)) {
+                atom_line(&mut branch, e, &mut serial_of);
+                if first {
+                    // The axis atom leads (members puts it first).
+                    let _ = writeln!(
+                        out,
+                        "BRANCH {from:>3} {:>3}",
+                        serial_of[b.child_atom as usize]
+                    );
+                    first = false;
+                }
+                out.push_str(&branch);
+                branch.clear();
+            }
+            stack.push((n, false));
+            for &c in tree.nodes[n].children.iter().rev() {
+                stack.push((c as usize, true));
+            }
+        } else {
+            let _ = writeln!(
+                out,
+                "ENDBRANCH {:>3} {:>3}",
+                serial_of[b.parent_atom as usize], serial_of[b.child_atom as usize]
+            );
+        }
+    }
+    let _ = writeln!(out, "TORSDOF {}", tree.bonds.len());
+    Some(out)
+}
+
+/// Writes `mol` placed by `pose` as PDBQT to `path` ([`pdbqt_text`]).
+///
+/// # Errors
+/// [`WriteError`] naming the file, also for a molecule that has no
+/// AutoDock types to write.
+pub fn write_pdbqt(mol: &Molecule, pose: &Pose, path: &Path) -> Result<(), WriteError> {
+    let text = pdbqt_text(mol, pose).ok_or_else(|| WriteError {
+        path: path.display().to_string(),
+        reason: "PDBQT is written only for a molecule read from a PDBQT file (its AutoDock \
+                 types and charges); write SDF and prepare it with Meeko or Open Babel"
+            .into(),
+    })?;
+    write_atomically(path, text.as_bytes())
+}
+
 /// Writes `mol` placed by `pose` as PDB to `path`.
 ///
 /// # Errors
@@ -526,5 +701,86 @@ mod tests {
         let mol = Molecule::new("x", vec![], &[]);
         let e = write_pdb(&mol, &Pose::IDENTITY, Path::new("/nonexistent/dir/x.pdb"));
         assert!(e.is_err_and(|e| e.to_string().contains("/nonexistent/dir/x.pdb")));
+    }
+
+    /// Each file of `tests/data/pdbqt` written back as PDBQT (its models
+    /// too) reads as the same atoms, AutoDock types, charges, rotatable
+    /// bonds and Vina types, with the tree written in nested branches.
+    #[test]
+    fn pdbqt_files_round_trip() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pdbqt");
+        let read = |path: &Path, text: Option<&str>, model: usize| {
+            let opts = LoadOptions {
+                sdf_record: Some(model),
+                ..Default::default()
+            };
+            let loaded = match text {
+                None => load(path, &opts).unwrap(),
+                Some(t) => {
+                    let mut l = crate::model::pdbqt::parse_pdbqt(t, "back", "back", &opts).unwrap();
+                    crate::model::set_hydrogens_apart(&mut l.structure);
+                    l
+                }
+            };
+            crate::model::receptor_only(&loaded.structure).unwrap()
+        };
+        // (name, residue number) -> (position, type, charge, Vina type).
+        let summary = |m: &Molecule| {
+            let c = m.chemistry();
+            let ad = m.autodock.as_ref().unwrap();
+            let mut v: Vec<_> = (0..m.len())
+                .map(|i| {
+                    let a = &m.atoms[i];
+                    let p = m.file_position(i);
+                    (
+                        format!("{} {} {}", a.chain, a.seq, a.name),
+                        [p.x, p.y, p.z].map(|x| (x * 1000.0).round() as i64),
+                        ad.atoms[i].ad,
+                        (f64::from(ad.atoms[i].charge) * 1000.0).round() as i64,
+                        c.xs[i],
+                    )
+                })
+                .collect();
+            v.sort_by(|a, b| (&a.0, a.1).cmp(&(&b.0, b.1)));
+            let mut hd: Vec<_> = ad
+                .hydrogens
+                .iter()
+                .map(|h| (h.ad.name(), (f64::from(h.charge) * 1000.0).round() as i64))
+                .collect();
+            hd.sort_unstable();
+            (v, hd, c.torsions.bonds.len(), c.vina_torsion_count())
+        };
+        let mut files = 0;
+        for (name, model) in [
+            ("receptor.pdbqt", 1),
+            ("lig1_meeko.pdbqt", 1),
+            ("lig1_obabel.pdbqt", 1),
+            ("lig2_obabel.pdbqt", 1),
+            ("lig3_meeko.pdbqt", 1),
+            ("dock_out.pdbqt", 3),
+        ] {
+            let path = dir.join(name);
+            let mol = read(&path, None, model);
+            let text = pdbqt_text(&mol, &Pose::from_translation(mol.centre)).unwrap();
+            let tree = mol.autodock.as_ref().unwrap().tree;
+            assert_eq!(text.contains("ROOT"), tree, "{name}");
+            let turned = if tree {
+                mol.chemistry().torsions.bonds.len()
+            } else {
+                0
+            };
+            assert_eq!(text.matches("\nBRANCH").count(), turned, "{name}");
+            let back = read(&path, Some(&text), 1);
+            assert_eq!(summary(&back), summary(&mol), "{name}");
+            files += 1;
+        }
+        assert_eq!(files, 6);
+        // Another format has no AutoDock types to write.
+        let plain = Molecule::new(
+            "x",
+            vec![crate::model::molecule::test_carbon(1)],
+            &[DVec3::ZERO],
+        );
+        assert!(pdbqt_text(&plain, &Pose::IDENTITY).is_none());
     }
 }
