@@ -290,32 +290,52 @@ pub(crate) fn file_rotatable(
     }
     let mut rotatable = vec![false; bonds.len()];
     let mut held_count = 0.0;
+    // (ring bonds, bonds bump does not perceive) held, named.
+    let (mut ring, mut unbonded) = (Vec::new(), Vec::new());
+    let name = |i: u32| {
+        mol.atoms
+            .get(i as usize)
+            .map_or_else(String::new, |x| format!("{}", x.name))
+    };
     for &[a, b] in &ad.branches {
         let key = (a.min(b), a.max(b));
-        let name = |i: u32| {
-            mol.atoms
-                .get(i as usize)
-                .map_or_else(String::new, |x| format!("{} {}", x.serial, x.name))
-        };
-        let why = match bonds.binary_search_by(|bd| (bd.a, bd.b).cmp(&key)) {
+        let held = match bonds.binary_search_by(|bd| (bd.a, bd.b).cmp(&key)) {
             Ok(k) if !in_ring[k] => {
                 rotatable[k] = true;
                 continue;
             }
-            Ok(_) => "the ring bond to",
-            Err(_) => "a bond (not one bump perceives) to",
+            Ok(_) => &mut ring,
+            Err(_) => &mut unbonded,
         };
+        held.push(format!("{}–{}", name(key.0), name(key.1)));
         let side = |x: u32| if adj.degree(x as usize) > 1 { 0.5 } else { 0.0 };
         held_count += side(key.0) + side(key.1);
-        warn.atom(
-            mol,
-            key.0 as usize,
-            format!(
-                "the file's torsion tree turns {why} atom {}; bump holds it (Vina turns it, and \
-                 it counts in the torsion count as in Vina)",
-                name(key.1)
-            ),
-        );
+    }
+    let list = |v: &[String]| {
+        let shown = v.iter().take(4).cloned().collect::<Vec<_>>().join(", ");
+        if v.len() > 4 {
+            format!("{shown} and {} more", v.len() - 4)
+        } else {
+            shown
+        }
+    };
+    if !ring.is_empty() {
+        warn.general(format!(
+            "{}: the file's torsion tree turns {} ring bond(s) ({}: a macrocycle opened for \
+             docking); bump holds the ring, and counts them in Vina's torsion count as Vina does",
+            mol.name,
+            ring.len(),
+            list(&ring)
+        ));
+    }
+    if !unbonded.is_empty() {
+        warn.general(format!(
+            "{}: the file's torsion tree turns {} bond(s) between atoms bump does not bond ({}); \
+             bump holds them, and counts them in Vina's torsion count as Vina does",
+            mol.name,
+            unbonded.len(),
+            list(&unbonded)
+        ));
     }
     Some(FileTorsions {
         rotatable,

@@ -106,7 +106,8 @@ pub fn parse_pdbqt(
     let mut records: Vec<Record> = Vec::new();
     let mut branches: Vec<(i64, i64, usize)> = Vec::new();
     let mut tree = false;
-    let mut pseudo = 0usize;
+    // (macrocycle closures, waters) left out.
+    let mut pseudo = (0usize, 0usize);
     let (mut models, mut in_model) = (0usize, false);
     let mut in_residue = false;
     let mut notes = Vec::new();
@@ -136,7 +137,11 @@ pub fn parse_pdbqt(
         if line.starts_with("ATOM  ") || line.starts_with("HETATM") {
             let record = atom_record(line).map_err(|(c, r)| err(number, Some(c), r))?;
             if record.atom.ad.element().is_none() {
-                pseudo += 1;
+                if record.atom.ad == AdType::W {
+                    pseudo.1 += 1;
+                } else {
+                    pseudo.0 += 1;
+                }
                 pdb.push('\n');
                 continue;
             }
@@ -268,10 +273,17 @@ pub fn parse_pdbqt(
         tree,
     });
     loaded.warnings.extend(notes);
-    if pseudo > 0 {
+    let (closure, waters) = pseudo;
+    if closure > 0 {
         loaded.warnings.push(format!(
-            "{label}: {pseudo} pseudo-atom(s) (macrocycle closure G0-G3, hydrated docking's W) \
-             are not atoms and are left out; Vina's macrocycle glue term is not computed"
+            "{label}: {closure} macrocycle closure pseudo-atom(s) (G0-G3) are not atoms and are \
+             left out; Vina's glue term that closes the ring is not computed"
+        ));
+    }
+    if waters > 0 {
+        loaded.warnings.push(format!(
+            "{label}: {waters} hydrated-docking water(s) (W) are left out, as Vina's vina and \
+             vinardo functions leave them out"
         ));
     }
     Ok(loaded)
@@ -432,6 +444,22 @@ TORSDOF 1
         assert_eq!(c.charges[2], -0.274);
         assert_eq!(c.polar_hydrogen_charge[3], 0.163);
         assert_eq!(c.polar_hydrogen_charge[5], 0.21);
+    }
+
+    /// A tree that turns a ring bond (a macrocycle Meeko opened, here a
+    /// cyclohexane): bump holds the ring, with one warning, and counts the
+    /// bond in Vina's torsion count as Vina does (both atoms have two
+    /// heavy neighbours: 1).
+    #[test]
+    fn a_branch_across_a_ring_is_held_and_counted() {
+        let text = "ROOT\nATOM      1  C1  UNL     1       1.500   0.000   0.000  1.00  0.00     0.000 C \nATOM      2  C2  UNL     1       0.750   1.299   0.000  1.00  0.00     0.000 C \nATOM      3  C3  UNL     1      -0.750   1.299   0.000  1.00  0.00     0.000 C \nENDROOT\nBRANCH   3   4\nATOM      4  C4  UNL     1      -1.500   0.000   0.000  1.00  0.00     0.000 C \nATOM      5  C5  UNL     1      -0.750  -1.299   0.000  1.00  0.00     0.000 C \nATOM      6  C6  UNL     1       0.750  -1.299   0.000  1.00  0.00     0.000 C \nENDBRANCH   3   4\nTORSDOF 1\n";
+        let l = parse_pdbqt(text, "ring.pdbqt", "ring.pdbqt", &opts()).unwrap();
+        let mol = crate::model::receptor_only(&l.structure).unwrap();
+        let c = mol.chemistry();
+        assert!(c.torsions.bonds.is_empty());
+        assert_eq!(c.vina_torsion_count(), 1.0);
+        assert_eq!(c.warnings.len(), 1, "{:?}", c.warnings);
+        assert!(c.warnings[0].contains("ring bond") && c.warnings[0].contains("C3–C4"));
     }
 
     #[test]

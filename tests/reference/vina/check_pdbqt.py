@@ -2,13 +2,16 @@
 """Checks that bump, reading PDBQT files, scores them as AutoDock Vina 1.2 does.
 
     python tests/reference/vina/check_pdbqt.py [--pdb-dir ../shared/pdb] [--plb CHECKOUT]
+                                               [--vina-examples CHECKOUT]
                                                [--bump target/release/bump] [--work DIR]
 
 For every complex of make_reference.py (prepared exactly as there: a rigid receptor PDBQT and a
 ligand PDBQT with its torsion tree, both written by Open Babel) and, with --plb, the first
 ligand of every target of the Open Force Field protein-ligand benchmark checkout (receptor as
 given, written rigid by Open Babel): the ligand is also written by Meeko (0.8, from the same
-RDKit molecule). Each ligand file is scored at its pose by Vina (vina.Vina.score(), both
+RDKit molecule). With --vina-examples, AutoDock Vina's own example files as given (receptors
+from ADFR, ligands from Meeko, docking outputs; a model of an output is scored as a file of its
+own). Each ligand file is scored at its pose by Vina (vina.Vina.score(), both
 scoring functions) and by `bump score RECEPTOR.pdbqt LIGAND.pdbqt --json`; the table gives
 Vina's total, inter and intra and bump's differences. Exits with status 1 when a total or an
 intermolecular energy differs by more than 1e-3 kcal/mol: they agree to 1e-5 but where a pair
@@ -87,6 +90,51 @@ def plb_inputs(checkout, work):
         yield "plb " + target, rec, [("obabel", obl), ("meeko", mk)]
 
 
+# AutoDock Vina's own example files (example/*/solution of its repository): (name, receptor,
+# ligand, model or None).
+VINA_EXAMPLES = [
+    ("basic_docking", "basic_docking/solution/1iep_receptor.pdbqt",
+     "basic_docking/solution/1iep_ligand.pdbqt", None),
+    ("basic_docking out, pose 1", "basic_docking/solution/1iep_receptor.pdbqt",
+     "basic_docking/solution/1iep_ligand_vina_out.pdbqt", 1),
+    ("basic_docking out, pose 2", "basic_docking/solution/1iep_receptor.pdbqt",
+     "basic_docking/solution/1iep_ligand_vina_out.pdbqt", 2),
+    ("docking_with_macrocycles", "docking_with_macrocycles/solution/BACE_1_receptor.pdbqt",
+     "docking_with_macrocycles/solution/BACE_1_ligand.pdbqt", None),
+    ("docking_with_macrocycles out, pose 2",
+     "docking_with_macrocycles/solution/BACE_1_receptor.pdbqt",
+     "docking_with_macrocycles/solution/BACE_1_ligand_vina_out.pdbqt", 2),
+    ("docking_with_zinc_metalloproteins", "docking_with_zinc_metalloproteins/solution/protein.pdbqt",
+     "docking_with_zinc_metalloproteins/solution/1s63_ligand.pdbqt", None),
+    ("flexible_docking, rigid part", "flexible_docking/solution/1fpu_receptor_rigid.pdbqt",
+     "flexible_docking/solution/1iep_ligand.pdbqt", None),
+]
+
+
+def model_text(path, n):
+    out, cur, keep = [], 0, False
+    for line in open(path):
+        if line.startswith("MODEL"):
+            cur += 1
+            keep = cur == n
+        elif line.startswith("ENDMDL"):
+            keep = False
+        elif keep:
+            out.append(line)
+    return "".join(out)
+
+
+def example_inputs(checkout, work):
+    base = os.path.join(checkout, "example")
+    for name, rec, lig, model in VINA_EXAMPLES:
+        lig = os.path.join(base, lig)
+        if model:
+            path = os.path.join(work, "%s_%d.pdbqt" % (os.path.basename(lig)[:-6], model))
+            open(path, "w").write(model_text(lig, model))
+            lig = path
+        yield "Vina example " + name, os.path.join(base, rec), [("as given", lig)]
+
+
 def shared_inputs(pdb_dir, work):
     for cx in mr.COMPLEXES:
         info, rec, lig, mol, *_ = mr.prepare_complex(cx, pdb_dir, work)
@@ -100,6 +148,8 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--pdb-dir", default=os.path.join(HERE, "../../../../shared/pdb"))
     ap.add_argument("--plb", help="an Open Force Field protein-ligand-benchmark checkout")
+    ap.add_argument("--vina-examples", metavar="CHECKOUT",
+                    help="an AutoDock Vina checkout: score its example/*/solution files as given")
     ap.add_argument("--bump", default="target/release/bump")
     ap.add_argument("--work", help="keep the prepared files here")
     args = ap.parse_args()
@@ -108,6 +158,8 @@ def main():
     sources = [shared_inputs(args.pdb_dir, work)]
     if args.plb:
         sources.append(plb_inputs(args.plb, work))
+    if args.vina_examples:
+        sources.append(example_inputs(args.vina_examples, work))
     print("| complex | ligand PDBQT | N_tors | vina total | inter | intra | vinardo total "
           "| worst \\|Δ total\\|, \\|Δ inter\\| | \\|Δ intra\\| |")
     print("|---|---|---|---|---|---|---|---|---|")
