@@ -308,7 +308,13 @@ pub(crate) fn file_rotatable(
             Err(_) => &mut unbonded,
         };
         held.push(format!("{}–{}", name(key.0), name(key.1)));
-        let side = |x: u32| if adj.degree(x as usize) > 1 { 0.5 } else { 0.0 };
+        let side = |x: u32| {
+            if super::torsions::heavy_neighbours(mol, adj, x as usize) > 1 {
+                0.5
+            } else {
+                0.0
+            }
+        };
         held_count += side(key.0) + side(key.1);
     }
     let list = |v: &[String]| {

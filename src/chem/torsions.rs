@@ -113,6 +113,18 @@ fn rotatable(
     !conjugated
 }
 
+/// The neighbours of atom `i` that are not hydrogens.
+pub(crate) fn heavy_neighbours(mol: &Molecule, adj: &Adjacency, i: usize) -> usize {
+    adj.of(i)
+        .iter()
+        .filter(|&&(j, _)| {
+            mol.atoms
+                .get(j as usize)
+                .is_some_and(|a| !crate::model::element::is_hydrogen(&a.element))
+        })
+        .count()
+}
+
 /// Builds the torsion tree: the rotatable bonds are `given` (per bond, as a
 /// PDBQT's tree states them) or perceived by the rule of the module docs.
 pub(crate) fn build(
@@ -161,7 +173,9 @@ pub(crate) fn build(
     let mut node_of_frag = vec![u32::MAX; frags.len()];
     let mut nodes: Vec<TorsionNode> = Vec::new();
     let mut tbonds: Vec<RotatableBond> = Vec::new();
-    let heavy_degree = |i: u32| adj.degree(i as usize);
+    // Hydrogens loaded as atoms (`--hydrogens keep`) are not heavy
+    // neighbours: Vina counts a hydroxyl's C–O as ½ either way.
+    let heavy_degree = |i: u32| heavy_neighbours(mol, adj, i as usize);
     let mut starts: Vec<u32> = Vec::new();
     if n > 0 {
         starts.push(frag[root_atom as usize]);

@@ -462,6 +462,19 @@ TORSDOF 1
         assert!(c.warnings[0].contains("ring bond") && c.warnings[0].contains("C3–C4"));
     }
 
+    /// With `--hydrogens keep` the hydrogens are atoms, bonded, but not
+    /// heavy neighbours: the hydroxyl's C–O still counts ½, as in Vina.
+    #[test]
+    fn kept_hydrogens_do_not_count_as_heavy_neighbours() {
+        let l = parse_pdbqt(LIGAND, "lig.pdbqt", "lig.pdbqt", &opts()).unwrap();
+        let mol = crate::model::receptor_only(&l.structure).unwrap();
+        assert_eq!(mol.len(), 8, "hydrogens kept as atoms");
+        let c = mol.chemistry();
+        assert_eq!(c.torsions.bonds.len(), 1);
+        assert_eq!(c.vina_torsion_count(), 0.5);
+        assert_eq!(c.xs[6], Some(crate::chem::XsType::O_D));
+    }
+
     #[test]
     fn models_are_records() {
         let two = format!(
