@@ -680,6 +680,47 @@ mod tests {
     }
 
     #[test]
+    fn hydrogens_kept_as_atoms_turn_no_methyl() {
+        // Ethanol with its hydrogens: only the C–O turns (the methyl does
+        // not, its hydrogens are not neighbours that count), ½ in N_tors,
+        // whether the hydrogens are kept as atoms or apart.
+        let atoms = [
+            ("C", [-1.2, 0.0, 0.0]),
+            ("C", [0.3, 0.0, 0.0]),
+            ("O", [0.8, 1.3, 0.0]),
+            ("H", [1.75, 1.3, 0.0]),
+            ("H", [-1.6, 1.0, 0.0]),
+            ("H", [-1.6, -0.5, 0.87]),
+            ("H", [-1.6, -0.5, -0.87]),
+            ("H", [0.7, -0.5, 0.87]),
+            ("H", [0.7, -0.5, -0.87]),
+        ];
+        let bonds = [
+            (1, 2, 1),
+            (2, 3, 1),
+            (3, 4, 1),
+            (1, 5, 1),
+            (1, 6, 1),
+            (1, 7, 1),
+            (2, 8, 1),
+            (2, 9, 1),
+        ];
+        for hydrogens in [crate::model::Hydrogens::Keep, crate::model::Hydrogens::Drop] {
+            let opts = LoadOptions {
+                hydrogens,
+                ..LoadOptions::default()
+            };
+            let l = parse_sdf(&sdf(&atoms, &bonds, ""), "e.sdf", &opts).expect("loads");
+            let m = crate::model::receptor_only(&l.structure).expect("molecule");
+            let c = m.chemistry();
+            assert_eq!(c.torsions.bonds.len(), 1, "{hydrogens:?}");
+            let b = c.bonds[c.torsions.bonds[0].bond as usize];
+            assert_eq!((b.a, b.b), (1, 2), "{hydrogens:?}: the C–O");
+            assert_eq!(c.vina_torsion_count(), 0.5, "{hydrogens:?}");
+        }
+    }
+
+    #[test]
     fn a_missing_bond_block_is_perceived() {
         let atoms = ring(&["C"; 6], 1.39);
         let (m, _) = load(&sdf(&atoms, &[], ""));

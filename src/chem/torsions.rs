@@ -92,8 +92,17 @@ fn rotatable(
         return false;
     }
     let elem = |i: u32| mol.atoms[i as usize].element.as_str();
-    let explicit_degree =
-        |i: u32| adj.degree(i as usize) + usize::from(hydro.polar(mol, i as usize));
+    // Heavy neighbours and polar hydrogens, whether the hydrogens are kept
+    // apart or loaded as atoms: a methyl's kept hydrogens do not count.
+    let explicit_degree = |i: u32| {
+        let i = i as usize;
+        let polar_atoms = if matches!(mol.atoms[i].element.as_str(), "N" | "O" | "S" | "P") {
+            usize::from(hydro.atom_h[i])
+        } else {
+            0
+        };
+        heavy_neighbours(mol, adj, i) + usize::from(hydro.polar(mol, i)) + polar_atoms
+    };
     if explicit_degree(b.a) <= 1 || explicit_degree(b.b) <= 1 {
         return false;
     }
