@@ -32,8 +32,9 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use super::label::AtomName;
 use super::pdb::{self, Format, file_name, read_bytes};
-use super::{LoadError, LoadOptions, Loaded};
+use super::{Label, LoadError, LoadOptions, Loaded};
 use crate::chem::autodock::AdType;
 use crate::text::excerpt;
 
@@ -66,7 +67,7 @@ pub struct AutoDockData {
 /// One atom record of the chosen model, as read here.
 struct Record {
     serial: i64,
-    name: String,
+    name: AtomName,
     position: Option<DVec3>,
     atom: AdAtom,
     /// Where its PDB line lies in the text given to the PDB reader.
@@ -178,8 +179,8 @@ pub fn parse_pdbqt(
             // Chains end as in a PDB file.
             pdb.push_str("TER\n");
         } else {
-            // REMARK, TORSDOF, ENDROOT, ENDBRANCH, BEGIN_RES, END_RES:
-            // nothing the structure needs.
+            // REMARK, TORSDOF, ENDROOT, ENDBRANCH: nothing the structure
+            // needs.
             pdb.push('\n');
         }
     }
@@ -194,9 +195,8 @@ pub fn parse_pdbqt(
             pdb.replace_range(r.line.clone(), &" ".repeat(r.line.len()));
         }
         records.retain(|r| !r.flexible);
-        branches.retain(|&(a, b, _)| {
-            records.iter().any(|r| r.serial == a) && records.iter().any(|r| r.serial == b)
-        });
+        let kept: std::collections::HashSet<i64> = records.iter().map(|r| r.serial).collect();
+        branches.retain(|(a, b, _)| kept.contains(a) && kept.contains(b));
         notes.push(format!(
             "{label}: {flexible} atom(s) of flexible residues (BEGIN_RES blocks) are the \
              receptor's side chains, not the drug's; left out"
@@ -229,7 +229,7 @@ pub fn parse_pdbqt(
         while r < records.len() {
             let rec = &records[r];
             r += 1;
-            if rec.serial == a.serial && rec.name == a.name.as_str() && rec.position == Some(*p) {
+            if rec.serial == a.serial && rec.name == a.name && rec.position == Some(*p) {
                 index_of_record[r - 1] = Some(i);
                 atoms.push(rec.atom);
                 break;
@@ -244,19 +244,22 @@ pub fn parse_pdbqt(
             "the atom records could not be matched with their AutoDock types",
         ));
     }
+    // A BRANCH names an atom by serial: the first record with it, as Vina
+    // takes it.
+    let mut first_of: std::collections::HashMap<i64, usize> = std::collections::HashMap::new();
+    for (k, r) in records.iter().enumerate() {
+        first_of.entry(r.serial).or_insert(k);
+    }
     let mut pairs = Vec::with_capacity(branches.len());
     for (a, b, line) in branches {
         let find = |serial: i64| {
-            records
-                .iter()
-                .position(|r| r.serial == serial)
-                .ok_or_else(|| {
-                    err(
-                        line,
-                        None,
-                        format!("BRANCH names atom {serial}, which the file does not have"),
-                    )
-                })
+            first_of.get(&serial).copied().ok_or_else(|| {
+                err(
+                    line,
+                    None,
+                    format!("BRANCH names atom {serial}, which the file does not have"),
+                )
+            })
         };
         let (ra, rb) = (find(a)?, find(b)?);
         if let (Some(i), Some(j)) = (index_of_record[ra], index_of_record[rb]) {
@@ -337,7 +340,7 @@ fn atom_record(line: &str) -> Result<Record, (usize, String)> {
     };
     Ok(Record {
         serial: field(6..11).parse().unwrap_or(0),
-        name: field(12..16).to_string(),
+        name: Label::truncated(field(12..16)),
         position,
         atom: AdAtom { ad, charge },
         line: 0..0,
