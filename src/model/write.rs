@@ -18,7 +18,7 @@ use std::path::Path;
 use glam::DVec3;
 use thiserror::Error;
 
-use super::{BondOrder, Molecule};
+use super::{AtomInfo, BondOrder, Molecule};
 use crate::motion::Pose;
 
 /// A file that could not be written.
@@ -129,6 +129,33 @@ fn placed(mol: &Molecule, pose: &Pose, e: Entry) -> DVec3 {
     }
 }
 
+/// Columns 1–66 of a PDB (or PDBQT) atom record for atom `a` (or one of
+/// its hydrogens, named `name`): record name, serial, name, residue, chain,
+/// number, insertion code, position `p`, occupancy 1 and temperature
+/// factor 0.
+fn atom_columns(out: &mut String, a: &AtomInfo, serial: i64, name: &str, element: &str, p: DVec3) {
+    let record = if a.hetero { "HETATM" } else { "ATOM  " };
+    // Names of one-letter elements start in column 14, as the format wants.
+    let name = if name.len() < 4 && element.len() == 1 {
+        format!(" {name:<3}")
+    } else {
+        format!("{name:<4}")
+    };
+    let chain = a.chain.chars().next().unwrap_or(' ');
+    let ins = a.insertion.chars().next().unwrap_or(' ');
+    let _ = write!(
+        out,
+        "{record}{serial:>5} {name:.4} {:>3} {chain}{:>4}{ins}   {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}",
+        a.residue.chars().take(3).collect::<String>(),
+        a.seq.rem_euclid(10_000),
+        p.x,
+        p.y,
+        p.z,
+        1.0,
+        0.0,
+    );
+}
+
 /// PDB text for `mol` placed by `pose`: its atoms and hydrogens in the
 /// file's order, then `CONECT` records for the bonds of hetero atoms.
 pub fn pdb_text(mol: &Molecule, pose: &Pose) -> String {
@@ -156,31 +183,11 @@ pub fn pdb_text(mol: &Molecule, pose: &Pose) -> String {
             0 => String::new(),
             q => format!("{}{}", q.unsigned_abs(), if q > 0 { '+' } else { '-' }),
         };
-        let p = placed(mol, pose, e);
-        let record = if a.hetero { "HETATM" } else { "ATOM  " };
-        // Names of one-letter elements start in column 14, as the format wants.
-        let name = if name.len() < 4 && element.len() == 1 {
-            format!(" {name:<3}")
-        } else {
-            format!("{name:<4}")
-        };
-        let chain = a.chain.chars().next().unwrap_or(' ');
-        let ins = a.insertion.chars().next().unwrap_or(' ');
         let serial = serial.rem_euclid(100_000);
         serials.push(serial);
         hetero.push(a.hetero);
-        let _ = writeln!(
-            out,
-            "{record}{serial:>5} {name:.4} {:>3} {chain}{:>4}{ins}   {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}          {:>2}{charge}",
-            a.residue.chars().take(3).collect::<String>(),
-            a.seq.rem_euclid(10_000),
-            p.x,
-            p.y,
-            p.z,
-            1.0,
-            0.0,
-            element.to_ascii_uppercase()
-        );
+        atom_columns(&mut out, a, serial, name, element, placed(mol, pose, e));
+        let _ = writeln!(out, "          {:>2}{charge}", element.to_ascii_uppercase());
     }
     // CONECT: each hetero atom's bonded partners, four to a record.
     let bonds = written_bonds(mol, &order);
@@ -345,30 +352,11 @@ pub fn pdbqt_text(mol: &Molecule, pose: &Pose) -> Option<String> {
                 (a, mol.hydrogens.name(h), ad.hydrogens[h])
             }
         };
-        let p = placed(mol, pose, e);
-        let record = if a.hetero { "HETATM" } else { "ATOM  " };
         let element = ad_atom.ad.element().unwrap_or("X");
-        let name = if name.len() < 4 && element.len() == 1 {
-            format!(" {name:<3}")
-        } else {
-            format!("{name:<4}")
-        };
-        let chain = a.chain.chars().next().unwrap_or(' ');
-        let ins = a.insertion.chars().next().unwrap_or(' ');
-        let _ = writeln!(
-            out,
-            "{record}{:>5} {name:.4} {:>3} {chain}{:>4}{ins}   {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}    {:>+6.3} {}",
-            serial % 100_000,
-            a.residue.chars().take(3).collect::<String>(),
-            a.seq.rem_euclid(10_000),
-            p.x,
-            p.y,
-            p.z,
-            1.0,
-            0.0,
-            ad_atom.charge,
-            ad_atom.ad.name()
-        );
+        let serial = i64::try_from(serial % 100_000).unwrap_or(0);
+        atom_columns(out, a, serial, name, element, placed(mol, pose, e));
+        // Columns 71-76 the charge, 78-79 the type.
+        let _ = writeln!(out, "    {:>+6.3} {}", ad_atom.charge, ad_atom.ad.name());
         true
     };
     let mut serial_of = vec![0usize; mol.len()];
