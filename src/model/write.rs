@@ -321,7 +321,9 @@ pub fn sdf_text(mol: &Molecule, pose: &Pose) -> String {
 /// written (each node's atoms in the file's order, a branch's axis atom
 /// first). `None` for a molecule without AutoDock types (another format:
 /// its polar hydrogens may not be in the file, and Vina needs them placed;
-/// prepare it with Meeko or Open Babel).
+/// prepare it with Meeko or Open Babel). A macrocycle Meeko opened is
+/// written as bump holds it: without its `G` pseudo-atoms and with its ring
+/// rigid, so Vina reads fewer torsions from it than from the original file.
 pub fn pdbqt_text(mol: &Molecule, pose: &Pose) -> Option<String> {
     let ad = mol.autodock.as_ref()?;
     if ad.atoms.len() != mol.len() || ad.hydrogens.len() != mol.hydrogens.len() {
