@@ -78,39 +78,46 @@ const METALS: [&str; 13] = [
     "Mg", "Mn", "Zn", "Ca", "Fe", "Cu", "Na", "K", "Hg", "Co", "U", "Cd", "Ni",
 ];
 
+/// The types with fixed names, as a PDBQT file spells them.
+const NAMED: [(&str, AdType); 18] = [
+    ("C", AdType::C),
+    ("A", AdType::A),
+    ("N", AdType::N),
+    ("NA", AdType::NA),
+    ("O", AdType::O),
+    ("OA", AdType::OA),
+    ("S", AdType::S),
+    ("SA", AdType::SA),
+    ("P", AdType::P),
+    ("H", AdType::H),
+    ("HD", AdType::HD),
+    ("F", AdType::F),
+    ("Cl", AdType::Cl),
+    ("Br", AdType::Br),
+    ("I", AdType::I),
+    ("Si", AdType::Si),
+    ("At", AdType::At),
+    ("W", AdType::W),
+];
+
 impl AdType {
     /// The type a PDBQT file's type column names (case-sensitive, as Vina
     /// reads it); `None` for a name Vina does not accept.
     pub fn parse(name: &str) -> Option<Self> {
-        Some(match name {
-            "C" => Self::C,
-            "A" => Self::A,
-            "N" => Self::N,
-            "NA" => Self::NA,
-            "O" => Self::O,
-            "OA" => Self::OA,
-            "S" | "Se" => Self::S,
-            "SA" => Self::SA,
-            "P" => Self::P,
-            "H" => Self::H,
-            "HD" => Self::HD,
-            "F" => Self::F,
-            "Cl" => Self::Cl,
-            "Br" => Self::Br,
-            "I" => Self::I,
-            "Si" => Self::Si,
-            "At" => Self::At,
-            "W" => Self::W,
-            _ => {
-                if let Some(n) = closure_number(name, "CG") {
-                    Self::Cg(n)
-                } else if let Some(n) = closure_number(name, "G") {
-                    Self::G(n)
-                } else {
-                    Self::Metal(METALS.iter().copied().find(|&m| m == name)?)
-                }
-            }
-        })
+        if let Some(&(_, t)) = NAMED.iter().find(|(n, _)| *n == name) {
+            return Some(t);
+        }
+        if name == "Se" {
+            // Vina reads selenium as sulphur.
+            return Some(Self::S);
+        }
+        if let Some(n) = closure_number(name, "CG") {
+            Some(Self::Cg(n))
+        } else if let Some(n) = closure_number(name, "G") {
+            Some(Self::G(n))
+        } else {
+            Some(Self::Metal(METALS.iter().copied().find(|&m| m == name)?))
+        }
     }
 
     /// The element symbol of an atom of this type; `None` for the pseudo
@@ -139,27 +146,13 @@ impl AdType {
         const CG: [&str; 4] = ["CG0", "CG1", "CG2", "CG3"];
         const G: [&str; 4] = ["G0", "G1", "G2", "G3"];
         match self {
-            Self::C => "C",
-            Self::A => "A",
-            Self::N => "N",
-            Self::NA => "NA",
-            Self::O => "O",
-            Self::OA => "OA",
-            Self::S => "S",
-            Self::SA => "SA",
-            Self::P => "P",
-            Self::H => "H",
-            Self::HD => "HD",
-            Self::F => "F",
-            Self::Cl => "Cl",
-            Self::Br => "Br",
-            Self::I => "I",
-            Self::Si => "Si",
-            Self::At => "At",
             Self::Cg(n) => CG[usize::from(n.min(3))],
             Self::G(n) => G[usize::from(n.min(3))],
-            Self::W => "W",
             Self::Metal(e) => e,
+            _ => NAMED
+                .iter()
+                .find(|(_, t)| *t == self)
+                .map_or("?", |(n, _)| n),
         }
     }
 
@@ -396,6 +389,13 @@ mod tests {
         assert_eq!(AdType::parse(""), None);
         assert_eq!(AdType::parse("Zn").and_then(AdType::element), Some("Zn"));
         assert_eq!(AdType::parse("W").and_then(AdType::element), None);
+        // Every name reads back as the type it names.
+        let names = NAMED.iter().map(|(n, _)| *n);
+        let more = ["CG0", "CG3", "G0", "G2"].into_iter().chain(METALS);
+        for name in names.chain(more) {
+            let t = AdType::parse(name).expect(name);
+            assert_eq!(t.name(), name);
+        }
     }
 
     #[test]
