@@ -160,6 +160,45 @@ fn settle_lowers_the_score_and_writes_a_drug_that_does_not_collide() {
     );
 }
 
+/// Settle on the maps reports Vina's exact score before and after, as
+/// `bump score` gives it for the start and for the written drug, and the
+/// maps' own energies (what it minimised) beside them.
+#[test]
+fn settle_on_the_maps_reports_the_exact_score() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let (rec, lig) = files(&dir);
+    let out_dir = tempdir("settle_maps");
+    let out = out_dir.join("settled.sdf");
+    let out_s = out.display().to_string();
+    let start = ["--move", "0.3,-0.2,0.2", "--turn", "1,1,0,8"];
+    let v = json(&[&["settle", &rec, &lig, "-o", &out_s, "--json"][..], &start].concat());
+    assert_eq!(v["evaluator"], "maps");
+    let at_start = json(&[&["score", &rec, &lig, "--json"][..], &start].concat());
+    for key in ["total", "inter", "intra"] {
+        assert!(
+            (f(&v["before"][key]) - f(&at_start[key])).abs() < 1e-9,
+            "{key}: settle {} score {}",
+            v["before"][key],
+            at_start[key]
+        );
+    }
+    let written = json(&["score", &rec, &out_s, "--json"]);
+    assert!(
+        (f(&written["total"]) - f(&v["after"]["total"])).abs() < 0.01,
+        "{written} {v}"
+    );
+    // The maps' energies, what settle minimised, went down.
+    let m = &v["minimised"];
+    assert!(f(&m["after"][0]) < f(&m["before"][0]), "{v}");
+    assert_ne!(f(&m["before"][0]), f(&v["before"]["total"]));
+    let out = bump(&[&["settle", &rec, &lig][..], &start].concat());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("minimised on the maps"), "{text}");
+    let _ = std::fs::remove_dir_all(&out_dir);
+}
+
 /// A fresh directory under the target's temporary folder.
 fn tempdir(name: &str) -> PathBuf {
     let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("score_cli_{name}"));

@@ -10,7 +10,8 @@ use anyhow::Context;
 use bump::model::write;
 use bump::score::settle::{Collision, settled_molecule};
 use bump::score::{
-    Contacts, Energies, Evaluator, Exact, Field, MapField, SettleOptions, settle, torsion_divisor,
+    Contacts, Energies, Evaluator, Exact, Field, MapField, SettleOptions, Workspace, energies,
+    settle, torsion_divisor,
 };
 use clap::Args;
 use serde::Serialize;
@@ -50,6 +51,13 @@ struct EnergyReport {
 }
 
 #[derive(Debug, Serialize)]
+struct MinimisedReport {
+    /// The energies at the start and the end (total, inter, intra).
+    before: [f64; 3],
+    after: [f64; 3],
+}
+
+#[derive(Debug, Serialize)]
 struct CollisionReport {
     /// `receptor` or `drug` (two drug atoms).
     with: &'static str,
@@ -65,8 +73,13 @@ struct SettleReport {
     drug: MoleculeReport,
     scoring: &'static str,
     evaluator: &'static str,
+    /// Vina's score at the start and at the end, exact (as `bump score`
+    /// gives it), whichever evaluator settle minimised.
     before: EnergyReport,
     after: EnergyReport,
+    /// With the maps: their energies at the start and the end, what settle
+    /// minimised (they differ from the exact ones by the maps' error).
+    minimised: Option<MinimisedReport>,
     /// Heavy-atom RMSD between the start and the settled drug (Å).
     rmsd: f64,
     rotatable_bonds: usize,
@@ -127,6 +140,7 @@ pub fn run(args: &SettleArgs) -> anyhow::Result<()> {
     let p = prepare_scene(c)?;
     let scene = &p.loaded.scene;
     let exact = Exact::new(&p.receptor, c.scoring);
+    let judge = Exact::new(&p.receptor, c.scoring);
     let maps = match args.evaluator {
         Evaluator::Maps => Some(build_maps(&p.receptor, c.scoring, &p.lig, &p.start)?),
         Evaluator::Exact => None,
@@ -144,6 +158,12 @@ pub fn run(args: &SettleArgs) -> anyhow::Result<()> {
     let s = settle(&*field, &p.lig, &mut contacts, &p.start, &opts);
     let elapsed_us = t0.elapsed().as_secs_f64() * 1e6;
     let divisor = torsion_divisor(p.lig.torsion_count);
+    let mut ws = Workspace::default();
+    let (exact_before, exact_after) = (
+        energies(&judge, &p.lig, &p.start, &mut ws),
+        energies(&judge, &p.lig, &s.conf, &mut ws),
+    );
+    let three = |e: &Energies| [e.inter / divisor, e.inter, e.intra];
     let output = match &args.output {
         Some(path) => {
             let mol = settled_molecule(&scene.drug, &p.lig, &s.conf.torsions);
@@ -167,15 +187,19 @@ pub fn run(args: &SettleArgs) -> anyhow::Result<()> {
         scoring: c.scoring.name(),
         evaluator: args.evaluator.name(),
         before: energy_report(
-            &s.before,
+            &exact_before,
             divisor,
             coulomb_energy(&p.receptor, &p.lig, &p.start),
         ),
         after: energy_report(
-            &s.after,
+            &exact_after,
             divisor,
             coulomb_energy(&p.receptor, &p.lig, &s.conf),
         ),
+        minimised: maps.is_some().then(|| MinimisedReport {
+            before: three(&s.before),
+            after: three(&s.after),
+        }),
         rmsd: s.rmsd,
         rotatable_bonds: p.lig.torsions(),
         torsions_deg: s.conf.torsions.iter().map(|t| t.to_degrees()).collect(),
@@ -212,6 +236,13 @@ pub fn run(args: &SettleArgs) -> anyhow::Result<()> {
         report.before.coulomb,
         report.after.coulomb
     );
+    if let Some(m) = &report.minimised {
+        outln!(
+            "minimised on the maps: {:.3} -> {:.3} kcal/mol (the score above is exact, as `bump score` gives it)",
+            m.before[0],
+            m.after[0]
+        );
+    }
     outln!(
         "moved {:.3} Å RMSD in {} ({} evaluations, {} refused by the contact rule; {}), {:.0} µs{}",
         report.rmsd,
