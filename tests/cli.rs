@@ -545,6 +545,34 @@ fn steer_reports_the_run_as_json_and_refuses_a_zero_direction() {
     let beyond = v["path_beyond_limit"].as_f64().expect("beyond");
     let deepest = v["deepest_overlap"].as_f64().expect("deepest");
     assert_eq!(beyond > 0.0, deepest > 1.0 + 1e-6, "{v}");
+    // At the default limit both lengths are the same.
+    assert_eq!(
+        v["path_beyond_default_limit"], v["path_beyond_limit"],
+        "{v}"
+    );
+    // A looser soft limit lets benzamidine through trypsin from the far
+    // side: nothing beyond that limit, but a long path beyond the default.
+    if let Some(dir) = common::shared_pdb() {
+        let rec = dir.join("3ptb.pdb").display().to_string();
+        let v = json(&[
+            "steer",
+            &rec,
+            "--ligand",
+            "BEN",
+            "--direction",
+            "1,0,0",
+            "--response",
+            "soft",
+            "--soft-limit",
+            "2.5",
+            "--json",
+        ]);
+        let deepest = v["deepest_overlap"].as_f64().expect("deepest");
+        assert!(deepest > 1.0 && deepest <= 2.5 + 1e-4, "{v}");
+        assert_eq!(v["path_beyond_limit"], 0.0, "{v}");
+        let beyond = v["path_beyond_default_limit"].as_f64().expect("beyond");
+        assert!(beyond > 5.0, "{v}");
+    }
     let v = json(&[
         "steer",
         "builtin",

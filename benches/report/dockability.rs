@@ -20,6 +20,7 @@
 use std::path::Path;
 use std::time::Instant;
 
+use bump::collide::soft::DEFAULT_LIMIT;
 use bump::collide::{ContactRule, Response};
 use bump::model::{self, Hydrogens, LigandSpec, LoadOptions, Molecule, RadiiSet};
 use bump::session::Settings;
@@ -108,9 +109,21 @@ fn load(dir: &Path, receptor: &str, drug: Drug) -> Result<(Molecule, Molecule), 
 /// One run's outcome (None: no clear start along the direction).
 type Run = Option<SteerReport>;
 
-/// Every direction under `response`, over the machine's cores, in
-/// direction order.
-fn runs(receptor: &Molecule, drug: &Molecule, dirs: &[DVec3], opts: SteerOptions) -> Vec<Run> {
+/// Soft limits of the sweep, Å (the first is the default).
+const SWEEP_LIMITS: [f64; 5] = [1.0, 1.5, 2.0, 2.5, 3.0];
+
+/// The sweep's rate that counts as getting there (the issue's target).
+const TARGET_RATE: f64 = 75.0;
+
+/// Every direction under `response` with soft limit `limit`, over the
+/// machine's cores, in direction order.
+fn runs(
+    receptor: &Molecule,
+    drug: &Molecule,
+    dirs: &[DVec3],
+    opts: SteerOptions,
+    limit: f64,
+) -> Vec<Run> {
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .clamp(1, dirs.len().max(1));
@@ -124,6 +137,7 @@ fn runs(receptor: &Molecule, drug: &Molecule, dirs: &[DVec3], opts: SteerOptions
                         .map(|k| {
                             let settings = Settings {
                                 rule: ContactRule::default(),
+                                soft_limit: limit,
                                 ..Settings::default()
                             };
                             // Each direction its own seed of the start's torsions.
@@ -173,6 +187,126 @@ struct Row {
     settled: Option<(usize, f64, usize)>,
 }
 
+/// One row of the soft-limit sweep: soft flexible on a complex at one limit.
+struct SweepRow {
+    complex: &'static str,
+    limit: f64,
+    starts: usize,
+    reached: usize,
+    median_frames: Option<f64>,
+    deepest: f64,
+    /// Median over the runs that got there of their path's length pressed
+    /// deeper than the default limit, Å.
+    beyond_default: Option<f64>,
+}
+
+impl SweepRow {
+    fn rate(&self) -> f64 {
+        if self.starts == 0 {
+            0.0
+        } else {
+            100.0 * self.reached as f64 / self.starts as f64
+        }
+    }
+}
+
+/// Soft flexible at each limit of [`SWEEP_LIMITS`]: whether a looser limit
+/// gets the drug there, and if so whether around the receptor or through it.
+fn limit_sweep(
+    complex: &'static str,
+    receptor: &Molecule,
+    drug: &Molecule,
+    dirs: &[DVec3],
+) -> Vec<SweepRow> {
+    let opts = SteerOptions {
+        response: Response::Soft,
+        flexible: true,
+        settle: false,
+        seed: 1,
+    };
+    SWEEP_LIMITS
+        .iter()
+        .map(|&limit| {
+            let r = runs(receptor, drug, dirs, opts, limit);
+            let done: Vec<&SteerReport> = r.iter().flatten().collect();
+            let there: Vec<&&SteerReport> = done.iter().filter(|r| r.reached).collect();
+            let frames: Vec<f64> = there
+                .iter()
+                .filter_map(|r| r.reached_frame.map(|f| f as f64))
+                .collect();
+            let beyond: Vec<f64> = there.iter().map(|r| r.path_beyond_default_limit).collect();
+            SweepRow {
+                complex,
+                limit,
+                starts: done.len(),
+                reached: there.len(),
+                median_frames: (!frames.is_empty()).then(|| median(&frames)),
+                deepest: done.iter().map(|r| r.deepest_overlap).fold(0.0, f64::max),
+                beyond_default: (!beyond.is_empty()).then(|| median(&beyond)),
+            }
+        })
+        .collect()
+}
+
+/// The sweep's table, and per complex what the sweep found, for the
+/// summary.
+fn sweep_markdown(sweep: &[SweepRow]) -> (String, Vec<(&'static str, String)>) {
+    let mut md = format!(
+        "\n### Would a softer contact get there? The soft limit against the rate\n\n\
+         The same controller and starts, `soft` flexible, with the soft limit raised from the \
+         default {DEFAULT_LIMIT} Å (the first row of each complex is the table's soft flexible \
+         row). *Beyond 1 Å* is the median, over the runs that got there, of how many Å of the \
+         drug's path ran pressed deeper than the default limit; set beside the `pass` rows' \
+         *beyond the limit* (the straight path's length through the receptor), it tells a run \
+         that went round the receptor (near 0) from one that went through it (near the \
+         straight path's).\n\n\
+         | complex | soft limit Å | starts | reached | rate | frames (median) | deepest Å | beyond 1 Å, runs that got there (median) |\n\
+         | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+    );
+    for r in sweep {
+        md.push_str(&format!(
+            "| {} | {:.1} | {} | {} | {:.0} % | {} | {:.2} | {} |\n",
+            r.complex,
+            r.limit,
+            r.starts,
+            r.reached,
+            r.rate(),
+            r.median_frames
+                .map_or_else(|| "–".to_string(), |f| format!("{f:.0}")),
+            r.deepest,
+            r.beyond_default
+                .map_or_else(|| "–".to_string(), |b| format!("{b:.1}")),
+        ));
+    }
+    let headline = sweep
+        .iter()
+        .map(|r| r.complex)
+        .fold(Vec::<&str>::new(), |mut v, c| {
+            if !v.contains(&c) {
+                v.push(c);
+            }
+            v
+        })
+        .into_iter()
+        .map(|c| {
+            let rows: Vec<&SweepRow> = sweep.iter().filter(|r| r.complex == c).collect();
+            let last = rows.last().map_or(0.0, |r| r.limit);
+            let text = match rows.iter().find(|r| r.rate() >= TARGET_RATE) {
+                Some(r) => format!(
+                    "{TARGET_RATE:.0} % first at a soft limit of {:.1} Å, where the runs that \
+                     get there run {:.1} Å (median) pressed deeper than the default limit: \
+                     through the receptor",
+                    r.limit,
+                    r.beyond_default.unwrap_or(0.0)
+                ),
+                None => format!("below {TARGET_RATE:.0} % up to a soft limit of {last:.1} Å"),
+            };
+            (c, text)
+        })
+        .collect();
+    (md, headline)
+}
+
 fn summarise(complex: &'static str, opts: SteerOptions, runs: &[Run]) -> Row {
     let done: Vec<&SteerReport> = runs.iter().flatten().collect();
     let frames: Vec<f64> = done
@@ -206,7 +340,7 @@ fn summarise(complex: &'static str, opts: SteerOptions, runs: &[Run]) -> Row {
             .fold(f64::INFINITY, f64::min),
         within_limit: done
             .iter()
-            .filter(|r| r.deepest_overlap <= bump::collide::soft::DEFAULT_LIMIT + 1e-9)
+            .filter(|r| r.deepest_overlap <= DEFAULT_LIMIT + 1e-9)
             .count(),
         beyond_limit: median(&done.iter().map(|r| r.path_beyond_limit).collect::<Vec<_>>()),
         step_median: median(&steps),
@@ -231,6 +365,7 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
     let dirs = bump::rng::sphere_directions(n);
     let t0 = Instant::now();
     let mut rows = Vec::new();
+    let mut sweep = Vec::new();
     let mut skipped = Vec::new();
     for (label, receptor, drug) in
         COMPLEXES
@@ -254,10 +389,11 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
                     settle: flexible && response == Response::Soft,
                     seed: 1,
                 };
-                let r = runs(&receptor, &drug, &dirs, opts);
+                let r = runs(&receptor, &drug, &dirs, opts, DEFAULT_LIMIT);
                 rows.push(summarise(label, opts, &r));
             }
         }
+        sweep.extend(limit_sweep(label, &receptor, &drug, &dirs));
     }
     let seconds = t0.elapsed().as_secs_f64();
     md.push_str(&format!(
@@ -319,6 +455,8 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
         ));
     }
     md.push_str("\n![dockability](bench/dockability.svg)\n");
+    let (sweep_md, sweep_headline) = sweep_markdown(&sweep);
+    md.push_str(&sweep_md);
     for s in &skipped {
         md.push_str(&format!("\nSkipped {s}\n"));
     }
@@ -326,9 +464,16 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
         .iter()
         .filter(|r| r.response == Response::Soft && r.flexible)
         .map(|r| {
+            let found = sweep_headline
+                .iter()
+                .find(|(c, _)| *c == r.complex)
+                .map_or(String::new(), |(_, t)| format!("; {t}"));
             format!(
-                "Dockability, soft flexible: {} reached from {} of {} starts",
-                r.complex, r.reached, r.starts
+                "Dockability, soft flexible: {} reached from {} of {} starts ({:.0} %){found}",
+                r.complex,
+                r.reached,
+                r.starts,
+                rate(r)
             )
         })
         .collect();

@@ -145,6 +145,11 @@ pub struct SteerReport {
     /// (collision off), how much of the straight path runs through the
     /// receptor farther in than `soft` may go.
     pub path_beyond_limit: f64,
+    /// The same against the default soft limit
+    /// ([`crate::collide::soft::DEFAULT_LIMIT`]), whatever the session's:
+    /// under `soft` with a looser limit, how much of the path ran through
+    /// the receptor farther in than the default lets it.
+    pub path_beyond_default_limit: f64,
     /// Median time of one collision response step (a rigid move or a
     /// bond's turn), µs.
     pub step_us_median: f64,
@@ -341,6 +346,7 @@ pub fn steer(
         frames: 0,
         deepest_overlap: 0.0,
         path_beyond_limit: 0.0,
+        path_beyond_default_limit: 0.0,
         step_us_median: 0.0,
         step_us_p99: 0.0,
         settled: None,
@@ -365,6 +371,9 @@ pub fn steer(
         let centre = session.bodies()[1].pose.translation;
         if f64::from(deepest) > limit + 1e-6 {
             report.path_beyond_limit += centre.distance(last_centre);
+        }
+        if f64::from(deepest) > crate::collide::soft::DEFAULT_LIMIT + 1e-6 {
+            report.path_beyond_default_limit += centre.distance(last_centre);
         }
         last_centre = centre;
         let r = now_rmsd(&session);
