@@ -100,6 +100,10 @@ pub struct StepResult {
     /// `soft`: the resistance of the pairs pressed in at the new pose, in
     /// [0, 1) (see [`super::soft::resistance`]); 0 for the others.
     pub resistance: f64,
+    /// The poses where each leg after the first began, in order (`slide`
+    /// and `soft`; `soft`'s glide is one more leg or more): the drug went
+    /// from the start through each of them to `pose`, each leg a screw.
+    pub via: Vec<Pose>,
 }
 
 impl StepResult {
@@ -113,6 +117,7 @@ impl StepResult {
             colliding: r.colliding,
             start_colliding: r.start_colliding,
             resistance: 0.0,
+            via: Vec::new(),
         }
     }
 }
@@ -145,6 +150,7 @@ pub fn respond(
                 colliding: r.start_colliding.clone(),
                 start_colliding: r.start_colliding,
                 resistance: 0.0,
+                via: Vec::new(),
             }
         }
         Response::Pass => {
@@ -159,6 +165,7 @@ pub fn respond(
                 colliding,
                 start_colliding: check(collider, drug, start),
                 resistance: 0.0,
+                via: Vec::new(),
             }
         }
         Response::Slide => slide(collider, drug, start, end, opts),
@@ -189,6 +196,7 @@ pub(super) fn slide(
     // so without it a few legs against differently tilted contacts could
     // turn the motion round and carry the drug back against the push.
     let mut push: Option<[f64; 6]> = None;
+    let mut via = Vec::new();
     for _ in 0..SLIDE_ITERATIONS {
         if r.t >= 1.0 || r.contacts.is_empty() {
             break;
@@ -248,12 +256,14 @@ pub(super) fn slide(
         // another direction and run straight back into them).
         from = r.pose;
         to = from.twisted(v, w);
+        via.push(from);
         r = move_to_touch(collider, drug, &from, &to, opts);
         legs += 1;
     }
     let mut out = StepResult::from_touch(Response::Slide, r, legs);
     out.t = t_first;
     out.start_colliding = start_colliding;
+    out.via = via;
     out
 }
 

@@ -16,6 +16,15 @@
 //! Motion along the contacts and out of them is not resisted: the drug
 //! slides as with `slide` and moves out freely.
 //!
+//! What the contacts still stop of a push, the drug *glides*: the part of
+//! it that runs into the receptor's smoothed surface is taken away and the
+//! rest, along that surface, is slid once more under the loosened rule
+//! ([`glide_normal`]). The smoothed surface is the receptor's Gaussian
+//! density at [`GLIDE_SIGMA`] Å (haptics' force shading: the normals of a
+//! bumpy surface are smoothed so that it feels smooth), so a push that
+//! catches between atoms carries the drug over them and round the
+//! receptor's body instead of holding it in the hollow.
+//!
 //! The contacts reported are those of the default rule (the pairs within
 //! the tolerance of its contact distance, and every pressed pair with its
 //! depth), so the session can grade them in colour.
@@ -36,6 +45,12 @@ pub const DEFAULT_LIMIT: f64 = 1.0;
 
 /// Largest soft limit accepted, Å.
 pub const MAX_LIMIT: f64 = 3.0;
+
+/// Width of the Gaussian that smooths the receptor's surface for the
+/// glide, Å: about an atom's diameter, so the hollows between neighbouring
+/// atoms (3–4 Å apart) are smoothed away while the receptor's large-scale
+/// shape stays.
+pub const GLIDE_SIGMA: f64 = 3.0;
 
 /// The loosened index of one receptor and drug: built once per limit.
 #[derive(Debug, Clone)]
@@ -126,11 +141,57 @@ pub fn respond_soft(
         resisted(collider, drug, start, end, &pressed, k)
     };
     let mut r = slide(&soft.collider, &soft.drug, start, &target, opts);
+    // The part of the push the contacts stopped glides along the smoothed
+    // surface (translation only: the turn was the slide's to take).
+    let rest = end.translation - r.pose.translation;
+    if rest.length() > opts.tolerance
+        && let Some(n) = glide_normal(collider, drug, &r.pose, &r.contacts)
+    {
+        let into = rest.dot(n);
+        if into < 0.0 {
+            let along = Pose::new(r.pose.rotation, r.pose.translation + (rest - n * into));
+            let glide = slide(&soft.collider, &soft.drug, &r.pose, &along, opts);
+            r.legs += glide.legs;
+            r.via.push(r.pose);
+            r.via.extend(glide.via);
+            r.pose = glide.pose;
+        }
+    }
     r.response = Response::Soft;
     r.contacts = pairs_within(collider, drug, &r.pose, tol);
     r.colliding = r.contacts.iter().copied().filter(Pair::collides).collect();
     r.resistance = resistance(&r.colliding, soft.limit);
     r
+}
+
+/// The outward normal of the receptor's smoothed surface at the drug atoms
+/// in `contacts` (their centroid, the drug at `pose`): minus the gradient
+/// of the density `Σ exp(−|x − q|² / 2σ²)` over the receptor's atoms `q`
+/// within 3σ, σ = [`GLIDE_SIGMA`]. `None` without contacts or where the
+/// density is flat.
+pub fn glide_normal(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    pose: &Pose,
+    contacts: &[Pair],
+) -> Option<DVec3> {
+    let mut atoms: Vec<u32> = contacts.iter().map(|p| p.drug).collect();
+    atoms.sort_unstable();
+    atoms.dedup();
+    if atoms.is_empty() {
+        return None;
+    }
+    let c = atoms
+        .iter()
+        .map(|&i| pose.transform_point(drug.local[i as usize].as_dvec3()))
+        .sum::<DVec3>()
+        / atoms.len() as f64;
+    let s2 = 2.0 * GLIDE_SIGMA * GLIDE_SIGMA;
+    let mut g = DVec3::ZERO;
+    collider.near(c.as_vec3(), (3.0 * GLIDE_SIGMA) as f32, |q, _, d2| {
+        g += (c - q.truncate().as_dvec3()) * (-f64::from(d2) / s2).exp();
+    });
+    g.try_normalize()
 }
 
 /// The end of the step from `start` to `end` with its part into the
@@ -227,12 +288,20 @@ mod tests {
                     // Never beyond the limit at the end pose …
                     let d = deepest(&rings, &e, &rule, &r.pose);
                     assert!(d <= limit + 1e-4, "limit {limit}: {d} Å deep");
-                    // … nor anywhere along the path taken (finely sampled).
-                    let path = Screw::between(pose, r.pose);
-                    for s in 1..=32 {
-                        let p = path.pose_at(f64::from(s) / 32.0);
-                        let d = deepest(&rings, &e, &rule, &p);
-                        assert!(d <= limit + 1e-3, "limit {limit}: {d} Å deep on the path");
+                    // … nor anywhere along the path taken (finely sampled),
+                    // leg by leg.
+                    let corners: Vec<Pose> = std::iter::once(pose)
+                        .chain(r.via.iter().copied())
+                        .chain(std::iter::once(r.pose))
+                        .collect();
+                    for leg in corners.windows(2) {
+                        let (a, b) = (leg[0], leg[1]);
+                        let path = Screw::between(a, b);
+                        for s in 1..=32 {
+                            let p = path.pose_at(f64::from(s) / 32.0);
+                            let d = deepest(&rings, &e, &rule, &p);
+                            assert!(d <= limit + 1e-3, "limit {limit}: {d} Å deep on the path");
+                        }
                     }
                     pressed_some |= d > 0.05;
                     let shown = r.contacts.iter().map(|p| f64::from(depth(p)));
@@ -243,6 +312,69 @@ mod tests {
             }
         }
         assert!(pressed_some, "no step pressed into the band");
+    }
+
+    /// A bumpy wall: two square layers of carbons 3 Å apart, the lower
+    /// one under the upper one's hollows.
+    fn wall() -> Molecule {
+        use crate::model::molecule::test_carbon;
+        let mut pos = Vec::new();
+        for (z, shift) in [(0.0, 0.0), (-1.5, 1.5)] {
+            for i in -8..=8 {
+                for j in -8..=8 {
+                    pos.push(DVec3::new(
+                        3.0 * f64::from(i) + shift,
+                        3.0 * f64::from(j) + shift,
+                        z,
+                    ));
+                }
+            }
+        }
+        let atoms = (1..=pos.len() as i64).map(test_carbon).collect();
+        Molecule::new("wall", atoms, &pos)
+    }
+
+    #[test]
+    fn a_push_caught_in_a_hollow_glides_along_the_wall() {
+        use crate::model::molecule::test_carbon;
+        let wall = wall();
+        let probe = Molecule::new("probe", vec![test_carbon(1)], &[DVec3::ZERO]);
+        let rule = ContactRule::default();
+        let hard = Collider::build(&wall, &rule, ColliderKind::Hashed);
+        let drug = DrugAtoms::new(&probe, &rule, hard.max_radius());
+        let soft = SoftIndex::build(&wall, &probe, &rule, DEFAULT_LIMIT, ColliderKind::Hashed)
+            .expect("index");
+        let opts = TouchOptions::default();
+        // The wall's smoothed surface faces +z over its middle.
+        let above = Pose::from_translation(DVec3::new(1.5, 1.5, 3.0) - wall.centre);
+        let n = glide_normal(
+            &hard,
+            &drug,
+            &above,
+            &[Pair {
+                receptor: 0,
+                drug: 0,
+                distance: 0.0,
+                contact: 0.0,
+            }],
+        )
+        .expect("normal");
+        assert!(n.z > 0.99, "{n}");
+        // Pushed steeply into the wall, a little along x, from above a
+        // hollow: the probe presses in, then glides along x over the rows
+        // of atoms, never deeper than the limit.
+        let push = DVec3::new(1.0, 0.0, -1.0).normalize() * 0.3;
+        let mut pose = Pose::from_translation(DVec3::new(1.5, 1.5, 4.0) - wall.centre);
+        let x0 = pose.translation.x;
+        for _ in 0..120 {
+            let end = Pose::new(pose.rotation, pose.translation + push);
+            let r = respond_soft(&hard, &drug, &soft, &pose, &end, &opts);
+            let d = deepest(&wall, &probe, &rule, &r.pose);
+            assert!(d <= DEFAULT_LIMIT + 1e-4, "{d} Å deep");
+            pose = r.pose;
+        }
+        let along = pose.translation.x - x0;
+        assert!(along > 6.0, "glided {along} Å along the wall");
     }
 
     #[test]
