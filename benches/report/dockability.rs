@@ -15,7 +15,11 @@
 //! deepest overlap, least over the directions, is how far the drug must
 //! press into the receptor on the best straight path from outside, and the
 //! length of the path pressed deeper than the soft limit, how much of the
-//! receptor lies between a start and the pocket.
+//! receptor lies between a start and the pocket. The soft-limit sweep then
+//! runs soft flexible at looser limits and measures, for the runs that get
+//! there, how much of their path ran deeper than the default limit: set
+//! beside the straight path's length through the receptor, it tells a
+//! drug that went round the receptor from one that went through it.
 
 use std::path::Path;
 use std::time::Instant;
@@ -249,8 +253,12 @@ fn limit_sweep(
 }
 
 /// The sweep's table, and per complex what the sweep found, for the
-/// summary.
-fn sweep_markdown(sweep: &[SweepRow]) -> (String, Vec<(&'static str, String)>) {
+/// summary; `through` gives a complex's straight path through the receptor
+/// (the flexible `pass` row's median length beyond the limit), Å.
+fn sweep_markdown(
+    sweep: &[SweepRow],
+    through: impl Fn(&str) -> Option<f64>,
+) -> (String, Vec<(&'static str, String)>) {
     let mut md = format!(
         "\n### Would a softer contact get there? The soft limit against the rate\n\n\
          The same controller and starts, `soft` flexible, with the soft limit raised from the \
@@ -292,12 +300,17 @@ fn sweep_markdown(sweep: &[SweepRow]) -> (String, Vec<(&'static str, String)>) {
             let rows: Vec<&SweepRow> = sweep.iter().filter(|r| r.complex == c).collect();
             let last = rows.last().map_or(0.0, |r| r.limit);
             let text = match rows.iter().find(|r| r.rate() >= TARGET_RATE) {
+                Some(r) if r.limit <= DEFAULT_LIMIT => {
+                    format!("{TARGET_RATE:.0} % at the default soft limit")
+                }
                 Some(r) => format!(
                     "{TARGET_RATE:.0} % first at a soft limit of {:.1} Å, where the runs that \
-                     get there run {:.1} Å (median) pressed deeper than the default limit: \
-                     through the receptor",
+                     get there run {:.1} Å (median) pressed deeper than the default limit{}",
                     r.limit,
-                    r.beyond_default.unwrap_or(0.0)
+                    r.beyond_default.unwrap_or(0.0),
+                    through(c).map_or(String::new(), |t| format!(
+                        " (the straight path through the receptor: {t:.1} Å)"
+                    ))
                 ),
                 None => format!("below {TARGET_RATE:.0} % up to a soft limit of {last:.1} Å"),
             };
@@ -455,7 +468,11 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
         ));
     }
     md.push_str("\n![dockability](bench/dockability.svg)\n");
-    let (sweep_md, sweep_headline) = sweep_markdown(&sweep);
+    let (sweep_md, sweep_headline) = sweep_markdown(&sweep, |c| {
+        rows.iter()
+            .find(|r| r.complex == c && r.flexible && r.response == Response::Pass)
+            .map(|r| r.beyond_limit)
+    });
     md.push_str(&sweep_md);
     for s in &skipped {
         md.push_str(&format!("\nSkipped {s}\n"));

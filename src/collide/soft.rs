@@ -360,9 +360,10 @@ mod tests {
         )
         .expect("normal");
         assert!(n.z > 0.99, "{n}");
-        // Pushed steeply into the wall, a little along x, from above a
-        // hollow: the probe presses in, then glides along x over the rows
-        // of atoms, never deeper than the limit.
+        // Pushed into the wall at 45° from above a hollow: the probe presses
+        // into the hollow, then glides along x over the rows of atoms, never
+        // deeper than the limit (without the glide it stays in the second
+        // hollow, 3.5 Å along).
         let push = DVec3::new(1.0, 0.0, -1.0).normalize() * 0.3;
         let mut pose = Pose::from_translation(DVec3::new(1.5, 1.5, 4.0) - wall.centre);
         let x0 = pose.translation.x;
