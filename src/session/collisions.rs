@@ -366,6 +366,8 @@ impl Session {
     /// collisions are reported at the new pose, not prevented.
     pub(super) fn place(&mut self, b: usize, pose: Pose, out: &mut FrameOutcome) {
         self.bodies[b].pose = pose;
+        // A jump leaves the path the drug came by.
+        self.last_clear = None;
         out.changed = true;
         out.moved |= b == self.selected;
         if b != self.selected {
@@ -437,6 +439,14 @@ impl Session {
         }
         if !out.highlight_changes.is_empty() {
             out.changed = true;
+        }
+        if self.settings.collision
+            && !self.bodies.is_empty()
+            && contacts.iter().all(|c| c.depth() <= 0.0)
+        {
+            let b = self.selected;
+            let torsions = self.torsion_angles(b).to_vec();
+            self.last_clear = Some((b, self.bodies[b].pose, torsions));
         }
         self.contacts = contacts.clone();
         out.contacts = contacts;

@@ -273,6 +273,11 @@ pub struct Session {
     /// The receptor's typed atoms for settle: (molecule, its shape
     /// generation, the atoms).
     typed_receptor: Option<(usize, u64, Arc<crate::score::Receptor>)>,
+    /// The selected molecule's latest pose and torsions at which it
+    /// overlapped nothing under the contact rule, as its contacts were last
+    /// found (molecule, pose, torsions): where settle starts when it cannot
+    /// free the drug from a pose pressed into the `soft` band.
+    last_clear: Option<(usize, Pose, Vec<f64>)>,
 }
 
 impl Session {
@@ -340,6 +345,7 @@ impl Session {
             live: score::LiveScoring::default(),
             flex,
             typed_receptor: None,
+            last_clear: None,
         }
     }
 

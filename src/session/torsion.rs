@@ -343,6 +343,7 @@ impl Session {
         }
         let mut out = FrameOutcome::default();
         self.history.close();
+        self.last_clear = None;
         self.reshape(b, torsions, &mut out);
         self.refresh_contacts(&mut out);
         Ok(())
@@ -720,10 +721,7 @@ impl Session {
         // same every time, as replay needs.
         collider.wait_for_clearance();
         let from = self.bodies[b].pose;
-        let start = Conformation {
-            pose: self.bodies[r].pose.inverse().compose(&from),
-            torsions: from_torsions.clone(),
-        };
+        let receptor_pose = self.bodies[r].pose;
         let exact = Exact::new(&receptor, Scoring::Vina);
         let mut contacts = crate::score::Contacts::new(
             &collider,
@@ -731,24 +729,48 @@ impl Session {
             &self.bodies[b].molecule,
             &ligand,
         );
-        let s = crate::score::settle(
-            &exact,
-            &ligand,
-            &mut contacts,
-            &start,
-            &SettleOptions {
-                touch: self.settings.touch,
-                ..SettleOptions::default()
-            },
-        );
+        let opts = SettleOptions {
+            touch: self.settings.touch,
+            ..SettleOptions::default()
+        };
+        let mut run = |pose: &Pose, torsions: &[f64]| {
+            let start = Conformation {
+                pose: receptor_pose.inverse().compose(pose),
+                torsions: torsions.to_vec(),
+            };
+            crate::score::settle(&exact, &ligand, &mut contacts, &start, &opts)
+        };
+        let mut s = run(&from, &from_torsions);
+        let mut backed = false;
         if !s.end_collisions.is_empty() {
+            // Caged where it stands (pressed into the `soft` band between
+            // atoms): settle from the last pose on its way in that
+            // overlapped nothing, so the result is free of overlaps.
+            let back = self
+                .last_clear
+                .as_ref()
+                .filter(|(k, pose, t)| *k == b && (*pose != from || *t != from_torsions));
+            let Some((_, pose, torsions)) = back else {
+                out.messages.push(format!(
+                    "settle found no pose free of overlaps from here ({} pairs overlap): nothing changed",
+                    s.end_collisions.len()
+                ));
+                return;
+            };
+            let caged = s.end_collisions.len();
+            s = run(pose, torsions);
+            if !s.end_collisions.is_empty() {
+                out.messages.push(format!(
+                    "settle found no pose free of overlaps from here ({caged} pairs overlap): nothing changed"
+                ));
+                return;
+            }
             out.messages.push(format!(
-                "settle found no pose free of overlaps from here ({} pairs overlap): nothing changed",
-                s.end_collisions.len()
+                "settle could not free the drug from here ({caged} pairs overlap): it settled from the drug's last pose without overlaps"
             ));
-            return;
+            backed = true;
         }
-        if s.steps == 0 {
+        if s.steps == 0 && !backed {
             out.messages.push(
                 "settle: no step lowers the score from here without a collision: nothing changed"
                     .into(),
@@ -819,5 +841,72 @@ mod tests {
         assert!((wrapped(3.0 * PI) - PI).abs() < 1e-12);
         assert!((wrapped(-1.5 * PI) - 0.5 * PI).abs() < 1e-12);
         assert!(wrapped(-PI) > 0.0);
+    }
+
+    /// A drug pushed under `soft` into a cage of six atoms (an octahedron
+    /// whose faces it can press through but whose middle overlaps all six
+    /// a little) is caged there: no local move frees it. Settle then starts
+    /// from the last pose on its way in that overlapped nothing, and ends
+    /// free of overlaps.
+    #[test]
+    fn settle_backs_out_of_a_cage_to_the_last_clear_pose() {
+        use crate::collide::Response;
+        use crate::model::molecule::test_carbon;
+        use crate::session::{Command, Contact, FrameInput, Settings};
+        let corners: Vec<DVec3> = [DVec3::X, DVec3::Y, DVec3::Z]
+            .iter()
+            .flat_map(|&a| [a * 2.6, a * -2.6])
+            .collect();
+        let cage = Molecule::new(
+            "cage",
+            (1..=6).map(test_carbon).collect(),
+            corners.as_slice(),
+        );
+        let probe = Molecule::new("probe", vec![test_carbon(7)], &[DVec3::splat(3.5)]);
+        let mut s = Session::new(
+            vec![cage, probe],
+            Settings {
+                response: Response::Soft,
+                ..Settings::default()
+            },
+        )
+        .expect("session");
+        s.step(&FrameInput::docking(), 0.0);
+        s.step(
+            &FrameInput::with_commands(&[Command::SetResponse(Response::Soft)]),
+            0.0,
+        );
+        let mut deepest = 0.0f32;
+        for _ in 0..400 {
+            let to_middle = -s.bodies()[1].pose.translation;
+            let out = s.step(
+                &FrameInput::nudged(to_middle.clamp_length_max(0.2), DVec3::ZERO),
+                0.0,
+            );
+            deepest = out
+                .contacts
+                .iter()
+                .map(Contact::depth)
+                .fold(deepest, f32::max);
+        }
+        let at = s.bodies()[1].pose.translation;
+        assert!(at.length() < 0.05, "not in the cage's middle: {at}");
+        assert!(deepest > 0.1, "never pressed into the band");
+        let out = s.step(&FrameInput::with_commands(&[Command::Settle]), 0.0);
+        assert!(
+            out.messages
+                .iter()
+                .any(|m| m.contains("last pose without overlaps")),
+            "{:?}",
+            out.messages
+        );
+        assert!(out.settled.is_some(), "{:?}", out.messages);
+        assert!(
+            out.contacts.iter().all(|c| c.depth() <= 0.0),
+            "{:?}",
+            out.contacts
+        );
+        let end = s.bodies()[1].pose.translation;
+        assert!(end.min_element() > 0.0, "it left by the way it came: {end}");
     }
 }
