@@ -242,7 +242,7 @@ pub const TABLE: &[Entry] = &[
     row(
         &[(K::KeyR, N)],
         S(Command::CycleResponse),
-        "next collision response: stop, touch, slide, soft (press in up to a limit against a growing resistance, gliding along the receptor's smoothed surface), pass",
+        "next collision response: stop, touch, slide, soft (press in up to a limit against a growing resistance, gliding along the receptor's smoothed surface and turning as the contacts push it), pass",
     ),
     row(
         &[(K::KeyR, Mods::SHIFT)],

@@ -25,6 +25,12 @@
 //! catches between atoms carries the drug over them and round the
 //! receptor's body instead of holding it in the hollow.
 //!
+//! What is still left of the push then turns the drug as the pressed
+//! pairs' torque turns it ([`contact_turn`]): pushed off-centre against
+//! the receptor, a real body rolls round what holds it, and a drug that
+//! turns so finds the way a channel runs. The turn, too, is slid under the
+//! loosened rule.
+//!
 //! The contacts reported are those of the default rule (the pairs within
 //! the tolerance of its contact distance, and every pressed pair with its
 //! depth), so the session can grade them in colour.
@@ -159,6 +165,21 @@ pub fn respond_soft(
     }
     r.response = Response::Soft;
     r.contacts = pairs_within(collider, drug, &r.pose, tol);
+    // What is still left of the push turns the drug as the pressed pairs'
+    // torque does: a push held off-centre rolls it round what holds it.
+    let rest = end.translation - r.pose.translation;
+    if rest.length() > opts.tolerance
+        && let Some(turned) = contact_turn(collider, drug, &r.pose, &r.contacts, rest)
+    {
+        let turn = slide(&soft.collider, &soft.drug, &r.pose, &turned, opts);
+        if turn.pose != r.pose {
+            r.legs += turn.legs;
+            r.via.push(r.pose);
+            r.via.extend(turn.via);
+            r.pose = turn.pose;
+            r.contacts = pairs_within(collider, drug, &r.pose, tol);
+        }
+    }
     r.colliding = r.contacts.iter().copied().filter(Pair::collides).collect();
     r.resistance = resistance(&r.colliding, soft.limit);
     r
@@ -192,6 +213,56 @@ pub fn glide_normal(
         g += (c - q.truncate().as_dvec3()) * (-f64::from(d2) / s2).exp();
     });
     g.try_normalize()
+}
+
+/// Largest turn of [`contact_turn`] in one step, degrees: the steering
+/// controller's largest turn in a frame.
+pub const MAX_CONTACT_TURN: f64 = 3.0;
+
+/// How readily the drug turns under a torque against how readily it moves
+/// under a force: a sphere's in a viscous fluid, whose drag is `6πηL`
+/// against a force and `8πηL³` against a torque, so it turns by
+/// `(6/8) · (τ/F) / L²` radians for each Å it would move (the overdamped
+/// motion of Brownian dynamics).
+pub const TURN_MOBILITY: f64 = 0.75;
+
+/// The drug at `pose` turned about its centre as the pairs in `contacts`
+/// pressed beyond the default rule push it, when `rest` of a push is left
+/// that they hold: each pair pushes its drug atom out along the line from
+/// the receptor atom with a force equal to its depth, and the drug turns
+/// about their torque `τ` by `m · |τ| / (Σ depth · L) · |rest| / L` radians
+/// (the forces' lever fraction times the push left, over the drug's extent
+/// `L`, with the mobility `m` = [`TURN_MOBILITY`]), at most
+/// [`MAX_CONTACT_TURN`]°. `None` when nothing presses or the torque
+/// vanishes.
+pub fn contact_turn(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    pose: &Pose,
+    contacts: &[Pair],
+    rest: DVec3,
+) -> Option<Pose> {
+    let centre = pose.translation;
+    let mut torque = DVec3::ZERO;
+    let mut force = 0.0;
+    for p in contacts {
+        let d = f64::from(depth(p));
+        if d <= 0.0 {
+            continue;
+        }
+        let x = pose.transform_point(drug.local[p.drug as usize].as_dvec3());
+        let q = collider.atom_position(p.receptor).as_dvec3();
+        let Some(n) = (x - q).try_normalize() else {
+            continue;
+        };
+        torque += (x - centre).cross(n * d);
+        force += d;
+    }
+    let l = drug.extent.max(1.0);
+    let axis = torque.try_normalize()?;
+    let angle = (TURN_MOBILITY * torque.length() / (force * l) * rest.length() / l)
+        .min(MAX_CONTACT_TURN.to_radians());
+    (angle > 0.0).then(|| pose.moved(DVec3::ZERO, axis, angle))
 }
 
 /// The end of the step from `start` to `end` with its part into the
@@ -376,6 +447,53 @@ mod tests {
         }
         let along = pose.translation.x - x0;
         assert!(along > 6.0, "glided {along} Å along the wall");
+    }
+
+    #[test]
+    fn a_push_held_at_one_end_rolls_the_drug_away_from_what_holds_it() {
+        use crate::model::molecule::test_carbon;
+        let atom = Molecule::new("atom", vec![test_carbon(1)], &[DVec3::ZERO]);
+        let ends = [DVec3::new(-1.5, 0.0, 0.0), DVec3::new(1.5, 0.0, 0.0)];
+        let stick = Molecule::new("stick", vec![test_carbon(1), test_carbon(2)], &ends);
+        let rule = ContactRule::default();
+        let hard = Collider::build(&atom, &rule, ColliderKind::Hashed);
+        let drug = DrugAtoms::new(&stick, &rule, hard.max_radius());
+        // The stick's +x end sits 2.2 Å above the atom, 0.6 Å past the rule
+        // (contact 2.8 Å), pushed down: the torque about its centre is
+        // 1.5 × 0.6 about +z, the whole lever (1.5 × 0.6 / (0.6 × 1.5)).
+        let pose = Pose::from_translation(DVec3::new(-1.5, 2.2, 0.0));
+        let pressed = Pair {
+            receptor: 0,
+            drug: 1,
+            distance: 2.2,
+            contact: 2.8,
+        };
+        let rest = DVec3::new(0.0, -0.03, 0.0);
+        let turned = contact_turn(&hard, &drug, &pose, &[pressed], rest).expect("a turn");
+        let (axis, angle) = (turned.rotation * pose.rotation.conjugate()).to_axis_angle();
+        assert!(axis.z > 1.0 - 1e-9, "{axis}");
+        let want = TURN_MOBILITY * 0.03 / 1.5;
+        assert!((angle - want).abs() < 1e-9, "{angle} against {want}");
+        assert_eq!(turned.translation, pose.translation);
+        // The held end rises off the atom.
+        let end = turned.transform_point(drug.local[1].as_dvec3());
+        assert!(end.y > 2.2, "{end}");
+        // A long push turns at most the largest turn.
+        let far = contact_turn(&hard, &drug, &pose, &[pressed], rest * 100.0).expect("a turn");
+        let (_, angle) = (far.rotation * pose.rotation.conjugate()).to_axis_angle();
+        assert!(
+            (angle - MAX_CONTACT_TURN.to_radians()).abs() < 1e-9,
+            "{angle}"
+        );
+        // Touching without pressing, or pressing through the centre: no turn.
+        let touching = Pair {
+            distance: 2.8,
+            ..pressed
+        };
+        assert!(contact_turn(&hard, &drug, &pose, &[touching], rest).is_none());
+        let end_on = Pose::from_translation(DVec3::new(3.7, 0.0, 0.0));
+        let in_line = Pair { drug: 0, ..pressed };
+        assert!(contact_turn(&hard, &drug, &end_on, &[in_line], rest).is_none());
     }
 
     #[test]
