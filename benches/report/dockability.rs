@@ -416,7 +416,8 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
          the direction's number), each frame proposes at most 0.3 Å and 3° towards the file \
          pose (flexible: and 5° per bond towards its file angle) through the response, for at \
          most 3000 frames; *reached* is a heavy-atom RMSD ≤ 2 Å to the file pose at some \
-         frame. {n} Fibonacci directions per complex, Bondi radii, hydrogens dropped, the \
+         frame (the least over the swaps of atoms the drug's bonds cannot tell apart, as \
+         docking benchmarks count it). {n} Fibonacci directions per complex, Bondi radii, hydrogens dropped, the \
          default contact rule (overlap 0.6 Å, H-bond allowance 0.4 Å), soft limit 1 Å. \
          *Frames* is the median frame at which the runs that got there got there; *deepest* \
          the deepest overlap beyond the contact rule over every run; *least deepest* the least \

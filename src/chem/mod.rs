@@ -35,6 +35,7 @@ pub mod graph;
 pub mod grid;
 pub mod orders;
 pub mod rings;
+pub mod symmetry;
 pub mod templates;
 pub mod torsions;
 pub mod typing;

@@ -90,7 +90,7 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
         }
     );
     outln!(
-        "{} (heavy-atom RMSD ≤ {REACHED_RMSD} Å{}); best {:.2} Å, final {:.2} Å after {} of at most {MAX_FRAMES} frames",
+        "{} (symmetry-corrected heavy-atom RMSD ≤ {REACHED_RMSD} Å{}); best {:.2} Å, final {:.2} Å after {} of at most {MAX_FRAMES} frames",
         if r.reached { "reached" } else { "not reached" },
         r.reached_frame
             .map(|f| format!(" at frame {f}"))

@@ -13,7 +13,9 @@
 //! per bond towards its file angle (a [`Command::TurnTorsion`] of each
 //! bond still turned), for at most 3000 frames. The run is reached when
 //! the heavy-atom RMSD to the file pose (and file torsions) is at most
-//! 2 Å at some frame. A frame that moves nothing ends the run early: the
+//! 2 Å at some frame: the RMSD docking benchmarks use, the least over the
+//! swaps of atoms the drug's bond graph cannot tell apart (benzamidine's
+//! ring turned over, a carboxylate's oxygens; [`symmetry`]). A frame that moves nothing ends the run early: the
 //! session is a function of its state, so the next frame would propose
 //! the same and be refused the same. With `settle`, the session's settle
 //! ([`Command::Settle`]) runs from the final pose.
@@ -27,6 +29,7 @@ use serde::Serialize;
 use thiserror::Error;
 
 use super::{Command, Contact, FrameInput, Session, SessionError, Settings, TorsionError};
+use crate::chem::symmetry;
 use crate::collide::{ContactRule, Response};
 use crate::model::Molecule;
 use crate::motion::Pose;
@@ -128,7 +131,8 @@ pub struct SteerReport {
     pub torsions: usize,
     /// Distance of the start from the file pose's centre, Å.
     pub start_distance: f64,
-    /// Heavy-atom RMSD ≤ 2 Å at some frame.
+    /// Heavy-atom RMSD ≤ 2 Å at some frame (every RMSD here is the least
+    /// over the drug's symmetric swaps of atoms, see [`rmsd`]).
     pub reached: bool,
     /// The first frame (1-based) at which it was reached.
     pub reached_frame: Option<usize>,
@@ -172,23 +176,37 @@ fn heavy_atoms(drug: &Molecule, pose: &Pose) -> Vec<DVec3> {
         .collect()
 }
 
-/// RMSD between two lists of positions, Å.
-fn rmsd_of(a: &[DVec3], b: &[DVec3]) -> f64 {
-    let n = a.len().min(b.len());
-    if n == 0 {
-        return 0.0;
-    }
-    let sum: f64 = a
+/// The permutations of `drug`'s heavy atoms (in [`heavy_atoms`]' order)
+/// that keep their elements and bonds ([`symmetry::automorphisms`]).
+fn heavy_symmetry(drug: &Molecule) -> Vec<Vec<u32>> {
+    let heavy: Vec<usize> = (0..drug.atoms.len())
+        .filter(|&i| !drug.atoms[i].element.eq_ignore_ascii_case("H"))
+        .collect();
+    let labels: Vec<String> = drug
+        .atoms
         .iter()
-        .zip(b)
-        .map(|(p, q)| (*p - *q).length_squared())
-        .sum();
-    (sum / n as f64).sqrt()
+        .map(|a| a.element.to_ascii_uppercase())
+        .collect();
+    let chem = drug.chemistry();
+    let mut at = vec![u32::MAX; drug.atoms.len()];
+    for (k, &i) in heavy.iter().enumerate() {
+        at[i] = k as u32;
+    }
+    symmetry::automorphisms(&labels, &chem.adjacency)
+        .into_iter()
+        .map(|p| heavy.iter().map(|&i| at[p[i] as usize]).collect())
+        .collect()
 }
 
-/// Heavy-atom RMSD between `drug` at `a` and at `b`, Å.
+/// Heavy-atom RMSD between `drug` at `a` and at `b`, Å, the least over
+/// the swaps of atoms its bond graph cannot tell apart (a ring turned
+/// over, a carboxylate's oxygens: see [`symmetry`]).
 pub fn rmsd(drug: &Molecule, a: &Pose, b: &Pose) -> f64 {
-    rmsd_of(&heavy_atoms(drug, a), &heavy_atoms(drug, b))
+    symmetry::rmsd_over(
+        &heavy_symmetry(drug),
+        &heavy_atoms(drug, a),
+        &heavy_atoms(drug, b),
+    )
 }
 
 /// Whether `drug` at `pose` collides with `receptor` at `receptor_pose`
@@ -310,6 +328,7 @@ pub fn steer(
     let mut session = Session::new(vec![receptor, drug], settings)?;
     let file = session.bodies()[1].loaded;
     let file_atoms = heavy_atoms(&session.bodies()[1].molecule, &file);
+    let swaps = heavy_symmetry(&session.bodies()[1].molecule);
     let torsions = if opts.flexible {
         session.rotatable_bonds(1).len()
     } else {
@@ -331,7 +350,7 @@ pub fn steer(
     session.prepare_response();
     let now_rmsd = |s: &Session| {
         let b = &s.bodies()[1];
-        rmsd_of(&heavy_atoms(&b.molecule, &b.pose), &file_atoms)
+        symmetry::rmsd_over(&swaps, &heavy_atoms(&b.molecule, &b.pose), &file_atoms)
     };
     let mut report = SteerReport {
         direction: d.to_array(),
@@ -417,6 +436,59 @@ mod tests {
             response,
             ..SteerOptions::default()
         }
+    }
+
+    #[test]
+    fn rmsd_counts_a_ring_turned_over_as_the_same_pose() {
+        use crate::model::molecule::test_carbon;
+        use std::f64::consts::PI;
+        // A benzamidine: a hexagon of carbons, a carbon on it along +x and
+        // two nitrogens on that one, all in the xy plane.
+        let mut pos: Vec<DVec3> = (0..6)
+            .map(|k| {
+                let a = PI / 3.0 * f64::from(k);
+                DVec3::new(a.cos(), a.sin(), 0.0) * 1.39
+            })
+            .collect();
+        let c7 = DVec3::new(1.39 + 1.49, 0.0, 0.0);
+        pos.push(c7);
+        for a in [PI / 3.0, -PI / 3.0] {
+            pos.push(c7 + DVec3::new(a.cos(), a.sin(), 0.0) * 1.33);
+        }
+        let mut atoms: Vec<_> = (1..=9).map(test_carbon).collect();
+        for a in &mut atoms[7..] {
+            a.element = "N".into();
+        }
+        let drug = Molecule::new("BEN", atoms, &pos);
+        let at = Pose::from_translation(drug.centre);
+        // Turned over about its long axis (through the centre of the ring
+        // and the amidine), every atom lands on one of its own kind.
+        let axis = DVec3::X;
+        let centre_on_axis = DVec3::new(drug.centre.x, 0.0, 0.0);
+        let turned = Pose::new(
+            glam::DQuat::from_axis_angle(axis, PI),
+            centre_on_axis
+                + glam::DQuat::from_axis_angle(axis, PI) * (drug.centre - centre_on_axis),
+        );
+        let plain = rmsd_of_plain(&heavy_atoms(&drug, &at), &heavy_atoms(&drug, &turned));
+        assert!(plain > 1.0, "{plain}");
+        assert!(
+            rmsd(&drug, &at, &turned) < 1e-9,
+            "{}",
+            rmsd(&drug, &at, &turned)
+        );
+        // Turned a quarter, it is not the same pose.
+        let quarter = Pose::new(glam::DQuat::from_axis_angle(axis, PI / 2.0), drug.centre);
+        assert!(rmsd(&drug, &at, &quarter) > 0.5);
+    }
+
+    fn rmsd_of_plain(a: &[DVec3], b: &[DVec3]) -> f64 {
+        let sum: f64 = a
+            .iter()
+            .zip(b)
+            .map(|(p, q)| (*p - *q).length_squared())
+            .sum();
+        (sum / a.len() as f64).sqrt()
     }
 
     #[test]
