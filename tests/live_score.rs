@@ -89,3 +89,45 @@ fn scored_only_when_the_drug_moves() {
     assert!(pinned.pinned && pinned.rmsd < 1e-9);
     let _ = Mode::Object;
 }
+
+/// Benzamidine turned over about its long axis in trypsin's pocket lands
+/// each atom on one of its own kind: the RMSD, which allows for the swap,
+/// stays near 0; a quarter turn does not.
+#[test]
+fn the_rmsd_counts_benzamidine_turned_over_as_the_crystal_pose() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let loaded = model::load(&dir.join("3ptb.pdb"), &LoadOptions::default()).expect("3ptb");
+    let spec = LigandSpec::parse("BEN").expect("spec");
+    let (r, d) = model::split_complex(&loaded.structure, &spec).expect("split");
+    let mut s = Session::new(vec![r, d], Settings::default()).expect("session");
+    s.enable_score();
+    s.step(&FrameInput::default(), 0.01);
+    let ben = &s.bodies()[1];
+    let at = |name: &str| {
+        let i = ben
+            .molecule
+            .atoms
+            .iter()
+            .position(|a| a.name.trim() == name)
+            .unwrap_or_else(|| panic!("no atom {name}"));
+        ben.pose.transform_point(ben.molecule.local[i].as_dvec3())
+    };
+    // The long axis: from the ring's para carbon (C4) through the ring
+    // carbon that carries the amidine (C1) to the amidine carbon (C).
+    let axis = at("C") - at("C4");
+    let turn = |degrees: f64| FrameInput {
+        commands: vec![Command::MoveBy {
+            translate: DVec3::ZERO,
+            axis,
+            degrees,
+        }],
+        ..FrameInput::default()
+    };
+    let over = s.step(&turn(180.0), 0.01).score.expect("turned over");
+    assert!(over.rmsd < 0.3, "{}", over.rmsd);
+    s.step(&turn(-180.0), 0.01);
+    let quarter = s.step(&turn(90.0), 0.01).score.expect("a quarter turn");
+    assert!(quarter.rmsd > 1.0, "{}", quarter.rmsd);
+}

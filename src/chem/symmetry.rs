@@ -16,6 +16,8 @@
 //! always first, so the RMSD is never above the plain one).
 
 use super::graph::Adjacency;
+use crate::model::Molecule;
+use crate::model::element::is_hydrogen;
 
 /// Most permutations listed.
 pub const MAX_AUTOMORPHISMS: usize = 1024;
@@ -44,6 +46,28 @@ pub fn automorphisms<L: PartialEq>(labels: &[L], adjacency: &Adjacency) -> Vec<V
     };
     search.extend(0);
     search.found
+}
+
+/// The permutations of `mol`'s heavy atoms, as positions in the list of
+/// its heavy atoms in atom order, that keep their elements and bonds
+/// ([`automorphisms`] of its perceived chemistry).
+pub fn heavy_swaps(mol: &Molecule) -> Vec<Vec<u32>> {
+    let heavy: Vec<usize> = (0..mol.atoms.len())
+        .filter(|&i| !is_hydrogen(&mol.atoms[i].element))
+        .collect();
+    let labels: Vec<String> = mol
+        .atoms
+        .iter()
+        .map(|a| a.element.to_ascii_uppercase())
+        .collect();
+    let mut at = vec![u32::MAX; mol.atoms.len()];
+    for (k, &i) in heavy.iter().enumerate() {
+        at[i] = k as u32;
+    }
+    automorphisms(&labels, &mol.chemistry().adjacency)
+        .into_iter()
+        .map(|p| heavy.iter().map(|&i| at[p[i] as usize]).collect())
+        .collect()
 }
 
 /// The smallest RMSD between `a` and `b` (the same atoms in the same

@@ -42,7 +42,9 @@ pub struct LiveScore {
     pub receptor_atoms: Vec<(u32, f64)>,
     /// The drug's rotatable bonds.
     pub rotatable: usize,
-    /// Heavy-atom RMSD to the reference pose, Å.
+    /// Heavy-atom RMSD to the reference pose, Å: the least over the swaps
+    /// of atoms the drug's bond graph cannot tell apart
+    /// ([`crate::chem::symmetry`]).
     pub rmsd: f64,
     /// The reference is a pose the user pinned (else the file pose).
     pub pinned: bool,
@@ -66,6 +68,9 @@ struct Prepared {
     atoms: Arc<Receptor>,
     /// The drug's heavy atoms (for the RMSD).
     heavy: Arc<Vec<usize>>,
+    /// The swaps of those atoms that keep elements and bonds: the RMSD is
+    /// the least over them.
+    swaps: Arc<Vec<Vec<u32>>>,
 }
 
 /// The live score's state in a session.
@@ -105,15 +110,6 @@ fn torsions_of(flex: &[Option<Flex>], d: usize, ligand: &Ligand) -> Vec<f64> {
         Some(f) if f.torsions.len() == ligand.torsions() => f.torsions.clone(),
         _ => vec![0.0; ligand.torsions()],
     }
-}
-
-/// RMSD over the atoms `heavy` between two placements of them.
-fn rmsd_of(heavy: &[usize], a: &[DVec3], b: &[DVec3]) -> f64 {
-    if heavy.is_empty() {
-        return 0.0;
-    }
-    let sum: f64 = heavy.iter().map(|&i| (a[i] - b[i]).length_squared()).sum();
-    (sum / heavy.len() as f64).sqrt()
 }
 
 /// Heavy-atom RMSD between the same local atoms placed by `a` and by `b`.
@@ -234,6 +230,7 @@ impl LiveScoring {
                         ligand: l,
                         atoms: Arc::new(prepare::receptor(&bodies[r].molecule)),
                         heavy: Arc::new(heavy),
+                        swaps: Arc::new(crate::chem::symmetry::heavy_swaps(m)),
                     });
                     self.failed = false;
                 }
@@ -280,7 +277,11 @@ impl LiveScoring {
             score: s,
             receptor_atoms,
             rotatable: p.ligand.torsions(),
-            rmsd: rmsd_of(&p.heavy, &x, &reference),
+            rmsd: crate::chem::symmetry::rmsd_over(
+                &p.swaps,
+                &p.heavy.iter().map(|&i| x[i]).collect::<Vec<_>>(),
+                &p.heavy.iter().map(|&i| reference[i]).collect::<Vec<_>>(),
+            ),
             pinned: self.pinned.is_some(),
             micros: t0.elapsed().as_secs_f64() * 1e6,
         });

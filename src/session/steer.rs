@@ -171,30 +171,8 @@ fn heavy_atoms(drug: &Molecule, pose: &Pose) -> Vec<DVec3> {
     drug.atoms
         .iter()
         .zip(&drug.local)
-        .filter(|(atom, _)| !atom.element.eq_ignore_ascii_case("H"))
+        .filter(|(atom, _)| !crate::model::element::is_hydrogen(&atom.element))
         .map(|(_, x)| pose.transform_point(x.as_dvec3()))
-        .collect()
-}
-
-/// The permutations of `drug`'s heavy atoms (in [`heavy_atoms`]' order)
-/// that keep their elements and bonds ([`symmetry::automorphisms`]).
-fn heavy_symmetry(drug: &Molecule) -> Vec<Vec<u32>> {
-    let heavy: Vec<usize> = (0..drug.atoms.len())
-        .filter(|&i| !drug.atoms[i].element.eq_ignore_ascii_case("H"))
-        .collect();
-    let labels: Vec<String> = drug
-        .atoms
-        .iter()
-        .map(|a| a.element.to_ascii_uppercase())
-        .collect();
-    let chem = drug.chemistry();
-    let mut at = vec![u32::MAX; drug.atoms.len()];
-    for (k, &i) in heavy.iter().enumerate() {
-        at[i] = k as u32;
-    }
-    symmetry::automorphisms(&labels, &chem.adjacency)
-        .into_iter()
-        .map(|p| heavy.iter().map(|&i| at[p[i] as usize]).collect())
         .collect()
 }
 
@@ -203,7 +181,7 @@ fn heavy_symmetry(drug: &Molecule) -> Vec<Vec<u32>> {
 /// over, a carboxylate's oxygens: see [`symmetry`]).
 pub fn rmsd(drug: &Molecule, a: &Pose, b: &Pose) -> f64 {
     symmetry::rmsd_over(
-        &heavy_symmetry(drug),
+        &symmetry::heavy_swaps(drug),
         &heavy_atoms(drug, a),
         &heavy_atoms(drug, b),
     )
@@ -328,7 +306,7 @@ pub fn steer(
     let mut session = Session::new(vec![receptor, drug], settings)?;
     let file = session.bodies()[1].loaded;
     let file_atoms = heavy_atoms(&session.bodies()[1].molecule, &file);
-    let swaps = heavy_symmetry(&session.bodies()[1].molecule);
+    let swaps = symmetry::heavy_swaps(&session.bodies()[1].molecule);
     let torsions = if opts.flexible {
         session.rotatable_bonds(1).len()
     } else {
