@@ -448,7 +448,8 @@ mod tests {
             centre_on_axis
                 + glam::DQuat::from_axis_angle(axis, PI) * (drug.centre - centre_on_axis),
         );
-        let plain = rmsd_of_plain(&heavy_atoms(&drug, &at), &heavy_atoms(&drug, &turned));
+        let plain =
+            crate::score::settle::rmsd(&heavy_atoms(&drug, &at), &heavy_atoms(&drug, &turned));
         assert!(plain > 1.0, "{plain}");
         assert!(
             rmsd(&drug, &at, &turned) < 1e-9,
@@ -458,15 +459,6 @@ mod tests {
         // Turned a quarter, it is not the same pose.
         let quarter = Pose::new(glam::DQuat::from_axis_angle(axis, PI / 2.0), drug.centre);
         assert!(rmsd(&drug, &at, &quarter) > 0.5);
-    }
-
-    fn rmsd_of_plain(a: &[DVec3], b: &[DVec3]) -> f64 {
-        let sum: f64 = a
-            .iter()
-            .zip(b)
-            .map(|(p, q)| (*p - *q).length_squared())
-            .sum();
-        (sum / a.len() as f64).sqrt()
     }
 
     #[test]
