@@ -13,7 +13,9 @@
 //! neighbours of an already mapped neighbour's image, so it prunes at the
 //! first broken bond; it stops at [`MAX_AUTOMORPHISMS`] permutations or
 //! [`MAX_SEARCH`] trial mappings, whichever comes first (the identity is
-//! always first, so the RMSD is never above the plain one).
+//! always first, so the RMSD is never above the plain one). A molecule of
+//! more than [`MAX_ATOMS`] atoms (no drug; the search recurses once per
+//! atom) gets the identity alone.
 
 use super::graph::Adjacency;
 use crate::model::Molecule;
@@ -22,8 +24,11 @@ use crate::model::element::is_hydrogen;
 /// Most permutations listed.
 pub const MAX_AUTOMORPHISMS: usize = 1024;
 
-/// Most trial mappings of one atom in a search.
+/// Most trial mappings of an atom to an image, over a whole search.
 pub const MAX_SEARCH: usize = 200_000;
+
+/// Most atoms searched: larger molecules get the identity alone.
+pub const MAX_ATOMS: usize = 1000;
 
 /// The permutations `p` of the atoms (atom `i` goes to `p[i]`) that keep
 /// `labels` (one per atom: atoms with different labels never swap) and
@@ -31,7 +36,7 @@ pub const MAX_SEARCH: usize = 200_000;
 pub fn automorphisms<L: PartialEq>(labels: &[L], adjacency: &Adjacency) -> Vec<Vec<u32>> {
     let n = labels.len();
     let identity: Vec<u32> = (0..n as u32).collect();
-    if n != adjacency.len() || n == 0 {
+    if n != adjacency.len() || n == 0 || n > MAX_ATOMS {
         return vec![identity];
     }
     let order = breadth_first(adjacency);
@@ -282,6 +287,9 @@ mod tests {
         let perms = automorphisms(&["C"; 4], &adj);
         check(&["C"; 4], &adj, &perms);
         assert_eq!(perms.len(), 8);
+        // Beyond the atom cap: the identity alone.
+        let adj = graph(MAX_ATOMS + 1, &[]);
+        assert_eq!(automorphisms(&vec!["C"; MAX_ATOMS + 1], &adj).len(), 1);
         // Twelve atoms with no bonds: 12! permutations, capped.
         let adj = graph(12, &[]);
         let perms = automorphisms(&["C"; 12], &adj);

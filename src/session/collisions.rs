@@ -445,8 +445,21 @@ impl Session {
             && contacts.iter().all(|c| c.depth() <= 0.0)
         {
             let b = self.selected;
-            let torsions = self.torsion_angles(b).to_vec();
-            self.last_clear = Some((b, self.bodies[b].pose, torsions));
+            let pose = self.bodies[b].pose;
+            let torsions = self
+                .flex
+                .get(b)
+                .and_then(Option::as_ref)
+                .map_or(&[][..], |f| f.torsions.as_slice());
+            // Kept in place: no allocation per frame.
+            match &mut self.last_clear {
+                Some((k, p, t)) => {
+                    (*k, *p) = (b, pose);
+                    t.clear();
+                    t.extend_from_slice(torsions);
+                }
+                None => self.last_clear = Some((b, pose, torsions.to_vec())),
+            }
         }
         self.contacts = contacts.clone();
         out.contacts = contacts;
