@@ -7,25 +7,23 @@
 //! interpolates the table's samples linearly in r² ([`super::table`]).
 //!
 //! A whole drug is evaluated at once ([`Field::atoms_energy_gradient`]):
-//! the receptor atoms within 8 Å of the drug's bounding sphere are gathered
-//! once, in cell order, with f32 copies of their coordinates four to a
-//! lane group; each drug atom then tests four of them at a time in f32 with
-//! a margin, and reads the table, in f64 and in the gathered order, only
-//! for those that pass. The pairs within 8 Å come in the order the cell
-//! visit of one atom gives them and the rest add exact zeros, so the sums
-//! are the one-atom path's to the bit (for finite positions). A drug of
-//! fewer than four atoms, or spread so wide that its gathered ball
-//! outweighs its atoms' own balls, takes the one-atom path.
+//! each drug atom tests its cell's candidate list (`super::candidates`: the
+//! receptor atoms within 8 Å of some point of the cell, in cell order) four
+//! at a time in f32 with a margin, then reads the table, in f64, for those
+//! that pass: first every pair's table index in a batch, then the reads
+//! and the sums. The pairs within 8 Å come in the order the cell visit of
+//! one atom gives them and the rest add exact zeros, so the sums are the
+//! one-atom path's to the bit (for finite positions). An atom beyond the
+//! lists' grid (no receptor atom within 8 Å) takes the one-atom path.
 
 use std::cell::RefCell;
 
 use glam::DVec3;
-use wide::f32x4;
 
 use super::field::Field;
 use super::function::{CUTOFF, CUTOFF2, Scoring};
 use super::receptor::Receptor;
-use super::table::{Table, index, smooth_at};
+use super::table::{FACTOR, Table, index, smooth_at, smooth_from};
 use crate::chem::XsType;
 
 /// The exact evaluator over one receptor.
@@ -67,152 +65,111 @@ impl<'a> Exact<'a> {
     }
 }
 
-/// Receptor atoms gathered around a drug for one evaluation.
+/// Each thread's buffers for one evaluation, kept between evaluations so
+/// that none allocates once they have grown.
 #[derive(Debug, Default)]
-struct Near {
-    /// The gathered atoms' coordinates relative to `centre` in f32, four
-    /// atoms a group per axis; the last group padded with far points.
-    lanes: Vec<[f32x4; 3]>,
-    /// Their positions and X-Score type indices, in cell order.
-    atoms: Vec<(DVec3, u32)>,
-    centre: DVec3,
+struct Scratch {
+    /// Each drug atom's candidate list, or `None` for the one-atom path.
+    which: Vec<Option<u32>>,
+    /// One drug atom's candidates.
+    list: Vec<u32>,
 }
 
 thread_local! {
-    /// Each thread's gathering buffer, kept between evaluations so that
-    /// none allocates once it has grown.
-    static NEAR: RefCell<Near> = RefCell::new(Near::default());
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
 }
 
-/// Where the padding lanes lie: far beyond any cutoff.
-const FAR: f32 = 1.0e6;
-
-/// The f32 test's bound on r²: the f32 distance of a pair within 8 Å errs
-/// by far less than this margin (coordinates within tens of Å of the
-/// centre), so no such pair is missed; the f64 table read decides.
-const NEAR2: f32 = (CUTOFF2 + 0.25) as f32;
-
-impl Near {
-    /// Gathers the receptor's atoms in the cells that the ball of
-    /// `radius` + 8 Å around `centre` reaches, in cell order.
-    fn gather(&mut self, receptor: &Receptor, centre: DVec3, radius: f64) {
-        self.centre = centre;
-        self.atoms.clear();
-        receptor.cells().visit(centre, radius + CUTOFF, |a| {
-            self.atoms.push((a.position, a.xs));
-        });
-        self.lanes.clear();
-        for chunk in self.atoms.chunks(4) {
-            let mut v = [[FAR; 4]; 3];
-            for (l, (p, _)) in chunk.iter().enumerate() {
-                let r = (*p - centre).as_vec3();
-                (v[0][l], v[1][l], v[2][l]) = (r.x, r.y, r.z);
-            }
-            self.lanes.push(v.map(f32x4::from));
-        }
-    }
-
-    /// Calls `f(position, type index)` for the gathered atoms that may lie
-    /// within 8 Å of `x` (all that do, and a few beyond), in gathered order.
-    #[inline]
-    fn visit(&self, x: DVec3, mut f: impl FnMut(DVec3, u32)) {
-        let r = (x - self.centre).as_vec3();
-        let (sx, sy, sz) = (f32x4::splat(r.x), f32x4::splat(r.y), f32x4::splat(r.z));
-        let bound = f32x4::splat(NEAR2);
-        for (g, [lx, ly, lz]) in self.lanes.iter().enumerate() {
-            let (dx, dy, dz) = (*lx - sx, *ly - sy, *lz - sz);
-            let r2 = dx * dx + dy * dy + dz * dz;
-            let mut mask = r2.simd_lt(bound).to_bitmask();
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let (p, t) = self.atoms[4 * g + lane];
-                f(p, t);
-            }
-        }
-    }
-}
-
-/// The centre and radius of a sphere around `at` (its box's centre).
-fn bounding_sphere(at: &[DVec3]) -> (DVec3, f64) {
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for &x in at {
-        lo = lo.min(x);
-        hi = hi.max(x);
-    }
-    let centre = (lo + hi) * 0.5;
-    let r2 = at
-        .iter()
-        .map(|&x| (x - centre).length_squared())
-        .fold(0.0, f64::max);
-    (centre, r2.sqrt())
-}
+/// Pairs whose table indices are found before their reads.
+const BATCH: usize = 16;
 
 impl Exact<'_> {
-    /// Runs `each` with the gathered receptor atoms when gathering pays
-    /// for `at` (a compact drug of a few atoms or more), or returns false.
-    fn with_near(&self, at: &[DVec3], each: impl FnOnce(&Near)) -> bool {
-        if at.len() < 4 {
-            return false;
-        }
-        let (centre, radius) = bounding_sphere(at);
-        // The gathered ball against the atoms' own balls of 8 Å; both
-        // also read the cells' fringe, the atoms' balls more of it.
-        let gathered = (radius + CUTOFF).powi(3);
-        if !gathered.is_finite() || gathered > 1.5 * at.len() as f64 * CUTOFF.powi(3) {
-            return false;
-        }
-        NEAR.with(|near| {
+    /// Calls `f(i, candidates)` once for each atom `i` of `at`, with its
+    /// candidates from its cell's list (indices into the cell-ordered
+    /// atoms: all within 8 Å and a few beyond, in cell order), or with
+    /// `None` for the one-atom path. Returns how many atoms had a list.
+    fn each_atom(&self, at: &[DVec3], mut f: impl FnMut(usize, Option<&[u32]>)) -> usize {
+        SCRATCH.with(|scratch| {
             // A re-entrant call (none is made) would find it borrowed and
             // take the one-atom path.
-            let Ok(mut near) = near.try_borrow_mut() else {
-                return false;
+            let Ok(mut scratch) = scratch.try_borrow_mut() else {
+                (0..at.len()).for_each(|i| f(i, None));
+                return 0;
             };
-            near.gather(self.receptor, centre, radius);
-            each(&near);
-            true
+            let Scratch { which, list } = &mut *scratch;
+            let cells = self.receptor.cells();
+            let Some(lists) = self.receptor.candidates().find(cells, at, which) else {
+                (0..at.len()).for_each(|i| f(i, None));
+                return 0;
+            };
+            let mut listed = 0;
+            for (i, w) in which.iter().enumerate() {
+                match *w {
+                    Some(l) => {
+                        let n = lists.select(l, at[i], list);
+                        f(i, Some(&list[..n]));
+                        listed += 1;
+                    }
+                    None => f(i, None),
+                }
+            }
+            listed
         })
     }
 }
 
 impl Field for Exact<'_> {
     fn atoms_energy(&self, xs: &[XsType], at: &[DVec3], out: &mut [f64]) {
-        let done = self.with_near(at, |near| {
-            for ((o, &t), &x) in out.iter_mut().zip(xs).zip(at) {
-                let rows = self.table.fast_rows(t);
-                let mut e = 0.0;
-                near.visit(x, |p, u| {
-                    e += rows[u as usize][index((p - x).length_squared())];
-                });
-                *o = e;
-            }
+        let atoms = self.receptor.cells().atoms();
+        self.each_atom(at, |i, candidates| {
+            let (t, x) = (xs[i], at[i]);
+            out[i] = match candidates {
+                Some(list) => {
+                    let rows = self.table.fast_rows(t);
+                    let mut e = 0.0;
+                    for &k in list {
+                        let a = &atoms[k as usize];
+                        e += rows[a.xs as usize][index((a.position - x).length_squared())];
+                    }
+                    e
+                }
+                None => self.atom_energy(t, x),
+            };
         });
-        if !done {
-            for ((o, &t), &x) in out.iter_mut().zip(xs).zip(at) {
-                *o = self.atom_energy(t, x);
-            }
-        }
     }
 
     fn atoms_energy_gradient(&self, xs: &[XsType], at: &[DVec3], out: &mut [(f64, DVec3)]) {
-        let done = self.with_near(at, |near| {
-            for ((o, &t), &x) in out.iter_mut().zip(xs).zip(at) {
-                let rows = self.table.smooth_rows(t);
-                let (mut e, mut g) = (0.0, DVec3::ZERO);
-                near.visit(x, |p, u| {
-                    let d = x - p;
-                    let (v, dv) = smooth_at(rows[u as usize], d.length_squared());
-                    e += v;
-                    g += d * (2.0 * dv);
-                });
-                *o = (e, g);
-            }
+        let atoms = self.receptor.cells().atoms();
+        self.each_atom(at, |i, candidates| {
+            let (t, x) = (xs[i], at[i]);
+            out[i] = match candidates {
+                Some(list) => {
+                    let rows = self.table.smooth_rows(t);
+                    let (mut e, mut g) = (0.0, DVec3::ZERO);
+                    // In batches: first every pair's offset and table
+                    // index, then the table reads and the sums. A pair's
+                    // chain from its position to its sum is long; split,
+                    // the reads of a batch are in flight together.
+                    let mut d = [DVec3::ZERO; BATCH];
+                    let mut at_k = [(0usize, 0.0f64, 0u32); BATCH];
+                    for chunk in list.chunks(BATCH) {
+                        for ((&k, d), at_k) in chunk.iter().zip(&mut d).zip(&mut at_k) {
+                            let a = &atoms[k as usize];
+                            *d = x - a.position;
+                            let r2 = d.length_squared();
+                            let k = index(r2);
+                            *at_k = (k, FACTOR * r2 - k as f64, a.xs);
+                        }
+                        for (&d, &(k, rem, u)) in d.iter().zip(&at_k).take(chunk.len()) {
+                            let (v, dv) = smooth_from(rows[u as usize], k, rem);
+                            e += v;
+                            g += d * (2.0 * dv);
+                        }
+                    }
+                    (e, g)
+                }
+                None => self.atom_energy_gradient(t, x),
+            };
         });
-        if !done {
-            for ((o, &t), &x) in out.iter_mut().zip(xs).zip(at) {
-                *o = self.atom_energy_gradient(t, x);
-            }
-        }
     }
 
     fn table(&self) -> &'static Table {
@@ -273,16 +230,17 @@ mod tests {
         Receptor::new(&pos, &xs, &[])
     }
 
-    /// The whole-drug path gives the one-atom path's values to the bit: for
-    /// compact drugs (gathered), drugs spread too wide to gather, drugs of
-    /// fewer than four atoms and atoms outside the receptor's box.
+    /// The whole-drug path (candidate lists) gives the one-atom path's
+    /// values to the bit: for compact and spread drugs, drugs of one atom
+    /// and atoms beyond the receptor's box, with lists built in the call or
+    /// before it.
     #[test]
     fn whole_drug_path_gives_the_one_atom_values_exactly() {
         let r = receptor(21, 1500, 18.0);
         let exact = Exact::new(&r, Scoring::Vina);
         let mut rng = Rng(5);
         let types = [XsType::C_H, XsType::N_A, XsType::O_DA, XsType::C_P];
-        let mut gathered = 0;
+        let (mut listed, mut alone) = (0, 0);
         for case in 0..60 {
             let n = [1, 3, 4, 7, 21, 40][case % 6];
             let spread = [2.0, 5.0, 30.0][case % 3];
@@ -291,13 +249,12 @@ mod tests {
                 .map(|_| centre + rng.in_box(DVec3::splat(spread)))
                 .collect();
             let xs: Vec<XsType> = (0..n).map(|i| types[(i + case) % types.len()]).collect();
-            if n >= 4 && exact.with_near(&at, |_| ()) {
-                gathered += 1;
-            }
             let mut e = vec![0.0; n];
             exact.atoms_energy(&xs, &at, &mut e);
             let mut eg = vec![(0.0, DVec3::ZERO); n];
             exact.atoms_energy_gradient(&xs, &at, &mut eg);
+            let l = exact.each_atom(&at, |_, _| ());
+            (listed, alone) = (listed + l, alone + n - l);
             for k in 0..n {
                 let want = exact.atom_energy(xs[k], at[k]);
                 assert_eq!(e[k].to_bits(), want.to_bits(), "case {case} atom {k}");
@@ -313,6 +270,6 @@ mod tests {
             }
         }
         // Both paths were taken.
-        assert!(gathered > 10 && gathered < 40, "{gathered} gathered");
+        assert!(listed > 100 && alone > 10, "{listed} listed, {alone} alone");
     }
 }

@@ -8,7 +8,8 @@
 //! - [`receptor`]: the receptor's typed atoms in a cell list.
 //! - [`field`]: what an evaluator provides; a conformation's energy and
 //!   gradient on top of one.
-//! - [`exact`]: the exact evaluator (pairs within 8 Å).
+//! - [`exact`]: the exact evaluator (pairs within 8 Å), reading per-cell
+//!   candidate lists (`candidates`).
 //! - [`maps`]: grid maps per type, built on a background thread, read by
 //!   trilinear interpolation; the exact evaluator covers what they do not.
 //! - [`coulomb`]: Coulomb energy with AutoDock 4's dielectric, exact and
@@ -27,6 +28,7 @@
 //! receptor's centre, the drug placed by its pose relative to the receptor
 //! (as [`crate::scene::Scene::relative`] gives it).
 
+mod candidates;
 pub mod contrib;
 pub mod coulomb;
 pub mod exact;

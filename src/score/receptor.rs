@@ -10,6 +10,7 @@
 
 use glam::DVec3;
 
+use super::candidates::CandidateLists;
 use crate::chem::XsType;
 
 /// Edge of a cell, Å: a quarter of the 8 Å cutoff's diameter, so a query
@@ -110,6 +111,16 @@ impl Cells {
         self.cell
     }
 
+    /// The corner of cell (0, 0, 0).
+    pub fn origin(&self) -> DVec3 {
+        self.origin
+    }
+
+    /// The number of cells along x, y and z.
+    pub fn dims(&self) -> [usize; 3] {
+        self.dims
+    }
+
     /// The atoms, in cell order.
     pub fn atoms(&self) -> &[CellAtom] {
         &self.atoms
@@ -117,9 +128,22 @@ impl Cells {
 
     /// Calls `f` for every atom in a cell that the ball of radius `cutoff`
     /// around `x` reaches (a superset of the atoms within `cutoff`; the
-    /// caller tests the distance).
+    /// caller tests the distance), in cell order.
     #[inline]
     pub fn visit(&self, x: DVec3, cutoff: f64, mut f: impl FnMut(&CellAtom)) {
+        self.visit_ranges(x, cutoff, |a, b| self.atoms[a..b].iter().for_each(&mut f));
+    }
+
+    /// [`Cells::visit`] by index into [`Cells::atoms`].
+    #[inline]
+    pub fn visit_indices(&self, x: DVec3, cutoff: f64, mut f: impl FnMut(usize)) {
+        self.visit_ranges(x, cutoff, |a, b| (a..b).for_each(&mut f));
+    }
+
+    /// Calls `f(a, b)` for the atoms `a..b` of each row of cells that the
+    /// ball reaches, in cell order.
+    #[inline]
+    fn visit_ranges(&self, x: DVec3, cutoff: f64, mut f: impl FnMut(usize, usize)) {
         let rel = (x - self.origin) * self.inv;
         let reach = cutoff * self.inv;
         let [nx, ny, nz] = self.dims;
@@ -166,9 +190,7 @@ impl Cells {
                 let row = (z * ny + y) * nx;
                 let a = self.start[row + x0] as usize;
                 let b = self.start[row + x1 as usize + 1] as usize;
-                for atom in &self.atoms[a..b] {
-                    f(atom);
-                }
+                f(a, b);
             }
         }
     }
@@ -196,6 +218,7 @@ pub struct Receptor {
     /// Per typed atom, its index in the atom list it was built from.
     pub source: Vec<u32>,
     cells: Cells,
+    candidates: CandidateLists,
 }
 
 impl Receptor {
@@ -209,6 +232,7 @@ impl Receptor {
             charges: Vec::new(),
             source: Vec::new(),
             cells: Cells::new(&[]),
+            candidates: CandidateLists::default(),
         };
         for (i, (p, t)) in positions.iter().zip(xs).enumerate() {
             if let Some(t) = t {
@@ -246,6 +270,18 @@ impl Receptor {
     /// The cell list.
     pub fn cells(&self) -> &Cells {
         &self.cells
+    }
+
+    /// The exact evaluator's per-cell candidate lists.
+    pub(crate) fn candidates(&self) -> &CandidateLists {
+        &self.candidates
+    }
+
+    /// Drops the exact evaluator's candidate lists, which it builds again
+    /// as drug atoms land in their cells: for measuring what a drug pays on
+    /// entering cells it has not visited. Results do not change.
+    pub fn forget_candidates(&self) {
+        self.candidates.forget();
     }
 }
 

@@ -186,7 +186,12 @@ impl Table {
 #[inline]
 pub fn smooth_at(row: &Row, r2: f64) -> (f64, f64) {
     let k = index(r2);
-    let rem = FACTOR * r2 - k as f64;
+    smooth_from(row, k, FACTOR * r2 - k as f64)
+}
+
+/// [`smooth_at`] from `k = index(r²)` and `rem = 32·r² − k`.
+#[inline]
+pub fn smooth_from(row: &Row, k: usize, rem: f64) -> (f64, f64) {
     let (s0, s1) = (row[k], row[k + 1]);
     let slope = s1 - s0;
     (s0 + rem * slope, FACTOR * slope)
