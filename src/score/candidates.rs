@@ -14,7 +14,9 @@
 //! (behind a lock, so threads share them) until their total passes
 //! [`BUDGET`]; then all are dropped and built again as needed. A list is a
 //! function of its cell alone, so what is kept never changes a result, and
-//! memory stays bounded whatever the receptor's size.
+//! memory stays bounded whatever the receptor's size: the lists' budget,
+//! and 4 bytes per cell of the grid for the index of built lists (the cell
+//! list's cells are at most about 8 per receptor atom plus a million).
 
 use std::sync::{RwLock, RwLockReadGuard, RwLockWriteGuard};
 

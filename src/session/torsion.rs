@@ -761,7 +761,7 @@ impl Session {
             s = run(pose, torsions);
             if !s.end_collisions.is_empty() {
                 out.messages.push(format!(
-                    "settle found no pose free of overlaps from here ({caged} pairs overlap): nothing changed"
+                    "settle found no pose free of overlaps from here ({caged} pairs overlap), nor from the drug's last pose without overlaps: nothing changed"
                 ));
                 return;
             }
