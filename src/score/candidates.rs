@@ -26,7 +26,8 @@ use wide::f32x4;
 use super::function::{CUTOFF, CUTOFF2};
 use super::receptor::Cells;
 
-/// Most lane groups kept over all lists (64 bytes each: 32 MiB).
+/// Most lane groups and lists kept (64 and 40 bytes each: at most
+/// 32 MiB).
 pub(crate) const BUDGET: usize = 1 << 19;
 
 /// Where the padding lanes lie: far beyond any cutoff.
@@ -40,9 +41,9 @@ const NEAR2: f32 = (CUTOFF2 + 0.25) as f32;
 /// The lists built so far.
 #[derive(Debug, Default)]
 pub(crate) struct Lists {
-    /// Per cell of the index grid (the receptor's cells and a border
-    /// [`Border::cells`] wide), 1 + the list's number, or 0 before it is
-    /// built; allocated on first use.
+    /// Per cell of the index grid (the receptor's cells and a border as
+    /// wide as the cutoff reaches), 1 + the list's number, or 0 before it
+    /// is built; allocated on first use.
     slot: Vec<u32>,
     /// Per list: its centre, its lane groups' range and its grid cell.
     spans: Vec<(DVec3, u32, u32, u32)>,
@@ -106,7 +107,7 @@ impl Border {
 #[derive(Debug)]
 pub(crate) struct CandidateLists {
     lists: RwLock<Lists>,
-    /// Most lane groups kept.
+    /// Most lane groups and lists kept.
     budget: usize,
 }
 
@@ -182,7 +183,7 @@ impl CandidateLists {
         }
     }
 
-    /// An empty set that keeps at most `budget` lane groups.
+    /// An empty set that keeps at most `budget` lane groups and lists.
     pub(crate) fn with_budget(budget: usize) -> Self {
         Self {
             lists: RwLock::default(),
@@ -251,7 +252,7 @@ impl Lists {
     }
 
     /// Builds grid cell `c`'s list; drops every other list when it would
-    /// pass the budget (of lane groups).
+    /// pass the budget (of lane groups and lists).
     fn build(&mut self, cells: &Cells, border: &Border, c: usize, budget: usize) {
         let centre = border.centre(c);
         // Every point of the cell is within half its diagonal of the
@@ -266,7 +267,8 @@ impl Lists {
         });
         let count = self.atoms.len() - start;
         let groups = count.div_ceil(4);
-        if self.lanes.len() + groups > budget && !self.lanes.is_empty() {
+        // An empty list (a cell of the border) counts too, as its span.
+        if self.lanes.len() + self.spans.len() + groups + 1 > budget && !self.spans.is_empty() {
             // Keep the new list's atoms, drop the rest.
             self.atoms.drain(..start);
             self.clear();
