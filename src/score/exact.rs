@@ -120,6 +120,8 @@ impl Exact<'_> {
 impl Field for Exact<'_> {
     fn atoms_energy(&self, xs: &[XsType], at: &[DVec3], out: &mut [f64]) {
         let atoms = self.receptor.cells().atoms();
+        // As a zip would: the atoms all three slices have.
+        let at = &at[..at.len().min(xs.len()).min(out.len())];
         self.each_atom(at, |i, candidates| {
             let (t, x) = (xs[i], at[i]);
             out[i] = match candidates {
@@ -139,6 +141,7 @@ impl Field for Exact<'_> {
 
     fn atoms_energy_gradient(&self, xs: &[XsType], at: &[DVec3], out: &mut [(f64, DVec3)]) {
         let atoms = self.receptor.cells().atoms();
+        let at = &at[..at.len().min(xs.len()).min(out.len())];
         self.each_atom(at, |i, candidates| {
             let (t, x) = (xs[i], at[i]);
             out[i] = match candidates {
