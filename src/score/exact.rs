@@ -83,22 +83,31 @@ thread_local! {
 const BATCH: usize = 16;
 
 impl Exact<'_> {
-    /// Calls `f(i, candidates)` once for each atom `i` of `at`, with its
-    /// candidates from its cell's list (indices into the cell-ordered
-    /// atoms: all within 8 Å and a few beyond, in cell order), or with
-    /// `None` for the one-atom path. Returns how many atoms had a list.
-    fn each_atom(&self, at: &[DVec3], mut f: impl FnMut(usize, Option<&[u32]>)) -> usize {
+    /// Calls `f(i, type, position, candidates)` once for each atom `i` of
+    /// the first `len` of `xs` and `at` (as a zip would, no more than
+    /// either has), with its candidates from its cell's list (indices into
+    /// the cell-ordered atoms: all within 8 Å and a few beyond, in cell
+    /// order), or with `None` for the one-atom path. Returns how many atoms
+    /// had a list.
+    fn each_atom(
+        &self,
+        xs: &[XsType],
+        at: &[DVec3],
+        len: usize,
+        mut f: impl FnMut(usize, XsType, DVec3, Option<&[u32]>),
+    ) -> usize {
+        let at = &at[..at.len().min(xs.len()).min(len)];
         SCRATCH.with(|scratch| {
             // A re-entrant call (none is made) would find it borrowed and
             // take the one-atom path.
             let Ok(mut scratch) = scratch.try_borrow_mut() else {
-                (0..at.len()).for_each(|i| f(i, None));
+                (0..at.len()).for_each(|i| f(i, xs[i], at[i], None));
                 return 0;
             };
             let Scratch { which, list } = &mut *scratch;
             let cells = self.receptor.cells();
             let Some(lists) = self.receptor.candidates().find(cells, at, which) else {
-                (0..at.len()).for_each(|i| f(i, None));
+                (0..at.len()).for_each(|i| f(i, xs[i], at[i], None));
                 return 0;
             };
             let mut listed = 0;
@@ -106,10 +115,10 @@ impl Exact<'_> {
                 match *w {
                     Some(l) => {
                         let n = lists.select(l, at[i], list);
-                        f(i, Some(&list[..n]));
+                        f(i, xs[i], at[i], Some(&list[..n]));
                         listed += 1;
                     }
-                    None => f(i, None),
+                    None => f(i, xs[i], at[i], None),
                 }
             }
             listed
@@ -120,10 +129,7 @@ impl Exact<'_> {
 impl Field for Exact<'_> {
     fn atoms_energy(&self, xs: &[XsType], at: &[DVec3], out: &mut [f64]) {
         let atoms = self.receptor.cells().atoms();
-        // As a zip would: the atoms all three slices have.
-        let at = &at[..at.len().min(xs.len()).min(out.len())];
-        self.each_atom(at, |i, candidates| {
-            let (t, x) = (xs[i], at[i]);
+        self.each_atom(xs, at, out.len(), |i, t, x, candidates| {
             out[i] = match candidates {
                 Some(list) => {
                     let rows = self.table.fast_rows(t);
@@ -141,9 +147,7 @@ impl Field for Exact<'_> {
 
     fn atoms_energy_gradient(&self, xs: &[XsType], at: &[DVec3], out: &mut [(f64, DVec3)]) {
         let atoms = self.receptor.cells().atoms();
-        let at = &at[..at.len().min(xs.len()).min(out.len())];
-        self.each_atom(at, |i, candidates| {
-            let (t, x) = (xs[i], at[i]);
+        self.each_atom(xs, at, out.len(), |i, t, x, candidates| {
             out[i] = match candidates {
                 Some(list) => {
                     let rows = self.table.smooth_rows(t);
@@ -256,7 +260,7 @@ mod tests {
             exact.atoms_energy(&xs, &at, &mut e);
             let mut eg = vec![(0.0, DVec3::ZERO); n];
             exact.atoms_energy_gradient(&xs, &at, &mut eg);
-            let l = exact.each_atom(&at, |_, _| ());
+            let l = exact.each_atom(&xs, &at, n, |_, _, _, _| ());
             (listed, alone) = (listed + l, alone + n - l);
             for k in 0..n {
                 let want = exact.atom_energy(xs[k], at[k]);
