@@ -324,3 +324,71 @@ fn the_reports_floors_compute_what_the_evaluators_do() {
     let e = energy_gradient(&exact, &s.lig, &s.crystal, &mut ws, &mut g);
     assert_eq!(intra, e.intra);
 }
+
+/// Trimethoprim held at a conformation and moved rigidly gives, at any
+/// pose, the energies and the whole gradient (force, torque, each bond's
+/// torque) that the flexible evaluation gives at that pose and those
+/// torsions: to rounding on the exact evaluator, to the maps' f32 lanes on
+/// the maps.
+#[test]
+fn a_held_conformation_gives_the_flexible_evaluations_gradient() {
+    use bump::score::{Field, Gradient, MapField, RigidDrug, Workspace, energy_gradient};
+    use bump_testkit::score_bench::{SPACING, dhfr, perturbed};
+
+    let Some(dir) = shared_pdb() else {
+        return;
+    };
+    let s = dhfr(&dir).unwrap();
+    let exact = Exact::new(&s.receptor, Scoring::Vina);
+    let maps = s.maps(&s.crystal, SPACING, 2);
+    let field = MapField::new(&maps, exact);
+    let (mut ws, mut want) = (Workspace::default(), Gradient::default());
+    let (mut ws2, mut got) = (Workspace::default(), Gradient::default());
+    let fields: [(&str, &dyn Field, f64); 2] = [("exact", &exact, 1e-9), ("maps", &field, 2e-4)];
+    let mut torqued = 0;
+    for (k, mut conf) in perturbed(&s.crystal, 5, 12).into_iter().enumerate() {
+        let n = conf.torsions.len();
+        conf.torsions = (0..n)
+            .map(|j| ((k * 7 + j * 3) % 11) as f64 * 0.25 - 1.25)
+            .collect();
+        for &(name, f, tol) in &fields {
+            let held = RigidDrug::new(f, &s.lig, &conf.torsions);
+            let e = energy_gradient(f, &s.lig, &conf, &mut ws, &mut want);
+            let h = held.energy_full_gradient(f, &conf.pose, &mut ws2, &mut got);
+            let close = |a: f64, b: f64| (a - b).abs() <= tol * (1.0 + b.abs());
+            let what = format!("{name}, pose {k}");
+            assert!(
+                close(h.inter, e.inter),
+                "{what}: inter {} vs {}",
+                h.inter,
+                e.inter
+            );
+            assert!(
+                close(h.intra, e.intra),
+                "{what}: intra {} vs {}",
+                h.intra,
+                e.intra
+            );
+            for a in 0..3 {
+                assert!(
+                    close(got.translation[a], want.translation[a]),
+                    "{what}: {got:?} vs {want:?}"
+                );
+                assert!(
+                    close(got.rotation[a], want.rotation[a]),
+                    "{what}: {got:?} vs {want:?}"
+                );
+            }
+            assert_eq!(got.torsions.len(), n);
+            for j in 0..n {
+                assert!(
+                    close(got.torsions[j], want.torsions[j]),
+                    "{what}: {got:?} vs {want:?}"
+                );
+                torqued += usize::from(want.torsions[j].abs() > 0.01);
+            }
+        }
+    }
+    // The bonds' torques were there to compare.
+    assert!(torqued > 20, "{torqued}");
+}

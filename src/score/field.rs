@@ -68,6 +68,36 @@ pub trait Field {
         }
         (e, force, moment)
     }
+
+    /// The intermolecular energy (the curl applied per atom) of `drug` at
+    /// `pose`, with the gradient summed per fragment of its torsion tree
+    /// into `sums` (one entry per fragment): `(Σ ∂E/∂xᵢ, Σ rᵢ × ∂E/∂xᵢ)`
+    /// over the fragment's scored atoms, `rᵢ` from the pose's centre. What
+    /// [`RigidDrug::energy_full_gradient`] carries up the tree. An
+    /// evaluator with a faster way to take many atoms through one
+    /// transform provides it.
+    fn rigid_fragment_sums(
+        &self,
+        drug: &RigidDrug,
+        pose: &Pose,
+        sums: &mut Vec<(DVec3, DVec3)>,
+    ) -> f64 {
+        let m = DMat3::from_quat(pose.rotation);
+        sums.clear();
+        sums.resize(drug.fragment_count(), (DVec3::ZERO, DVec3::ZERO));
+        let mut e = 0.0;
+        for ((y, &t), &f) in drug.local().iter().zip(drug.xs()).zip(drug.fragments()) {
+            let r = m * *y;
+            let (v, g) = self.atom_energy_gradient(t, r + pose.translation);
+            let (v, s) = curl_with_slope(v);
+            let g = g * s;
+            e += v;
+            let w = &mut sums[f as usize];
+            w.0 += g;
+            w.1 += r.cross(g);
+        }
+        e
+    }
 }
 
 /// `F` read one atom at a time: its [`Field::atom_energy`] and
@@ -193,7 +223,14 @@ pub fn energy_gradient<F: Field + ?Sized>(
         inter += e;
         g[i as usize] += de * s;
     }
-    let table = field.table();
+    let intra = intra_gradient(field.table(), lig, x, g);
+    lig.gradient(conf, x, g, &mut ws.tree, grad);
+    Energies { inter, intra }
+}
+
+/// The continuous intramolecular energy of the heavy atoms at `x`, its
+/// gradient added into `g` (per heavy atom).
+fn intra_gradient(table: &Table, lig: &Ligand, x: &[DVec3], g: &mut [DVec3]) -> f64 {
     let mut intra = 0.0;
     for &[a, b] in &lig.pairs {
         let (i, j) = (
@@ -211,8 +248,7 @@ pub fn energy_gradient<F: Field + ?Sized>(
             g[j] -= f;
         }
     }
-    lig.gradient(conf, x, g, &mut ws.tree, grad);
-    Energies { inter, intra }
+    intra
 }
 
 /// The drug held in one conformation and moved rigidly: what a haptic loop
@@ -230,6 +266,32 @@ pub struct RigidDrug {
     lanes: Vec<[f32x4; 3]>,
     /// Vina's intramolecular energy at the held conformation.
     pub intra: f64,
+    /// Per scored atom, its fragment of the torsion tree.
+    fragment: Vec<u32>,
+    /// Per fragment, parents before children: its rotatable bond to its
+    /// parent, if any.
+    bonds: Vec<Option<HeldBond>>,
+    /// The continuous intramolecular energy at the held conformation (what
+    /// [`energy_gradient`] gives as `intra`).
+    intra_continuous: f64,
+    /// `∂E_intra/∂θ_k` per rotatable bond at the held conformation: the
+    /// intramolecular energy depends only on distances within the drug, so
+    /// its gradient stays the same however the drug is moved rigidly.
+    intra_torsions: Vec<f64>,
+}
+
+/// A fragment's rotatable bond to its parent, in the drug's frame at the
+/// held conformation.
+#[derive(Debug, Clone, Copy)]
+struct HeldBond {
+    /// The parent fragment.
+    parent: u32,
+    /// The bond's index among the rotatable bonds.
+    torsion: u32,
+    /// The parent atom's position.
+    at: DVec3,
+    /// The unit axis towards the child atom.
+    axis: DVec3,
 }
 
 impl RigidDrug {
@@ -241,6 +303,30 @@ impl RigidDrug {
         };
         let mut ws = Workspace::default();
         let intra = energies(field, lig, &conf, &mut ws).intra;
+        let x = &ws.positions;
+        let mut g = vec![DVec3::ZERO; x.len()];
+        let intra_continuous = intra_gradient(field.table(), lig, x, &mut g);
+        let mut held = Gradient::default();
+        lig.gradient(&conf, x, &g, &mut ws.tree, &mut held);
+        let mut torsion = lig.torsions();
+        let mut bonds = vec![None; lig.fragments.len()];
+        for (f, frag) in lig.fragments.iter().enumerate().rev() {
+            if let (Some(parent), Some([a, b])) = (frag.parent, frag.bond) {
+                torsion -= 1;
+                let (pa, pb) = (x[a as usize], x[b as usize]);
+                bonds[f] = Some(HeldBond {
+                    parent,
+                    torsion: torsion as u32,
+                    at: pa,
+                    axis: (pb - pa).normalize_or_zero(),
+                });
+            }
+        }
+        let fragment = lig
+            .scored
+            .iter()
+            .map(|&i| lig.fragment_of[i as usize])
+            .collect();
         let local: Vec<DVec3> = lig
             .scored
             .iter()
@@ -262,6 +348,10 @@ impl RigidDrug {
             xs: lig.xs.clone(),
             lanes,
             intra,
+            fragment,
+            bonds,
+            intra_continuous,
+            intra_torsions: held.torsions,
         }
     }
 
@@ -273,6 +363,16 @@ impl RigidDrug {
     /// The scored atoms' types.
     pub fn xs(&self) -> &[XsType] {
         &self.xs
+    }
+
+    /// Per scored atom, its fragment of the torsion tree.
+    pub fn fragments(&self) -> &[u32] {
+        &self.fragment
+    }
+
+    /// How many fragments the torsion tree has.
+    pub fn fragment_count(&self) -> usize {
+        self.bonds.len()
     }
 
     /// [`Self::local`] in f32, per group of four atoms (the last padded
@@ -290,5 +390,50 @@ impl RigidDrug {
         pose: &Pose,
     ) -> (f64, DVec3, DVec3) {
         field.rigid_energy_gradient(self, pose)
+    }
+
+    /// The energies at `pose` and their whole gradient (force, torque and
+    /// each rotatable bond's torque) into `out`: what [`energy_gradient`]
+    /// gives for the held conformation at `pose`, without placing the atoms
+    /// through the torsion tree or summing the intramolecular pairs again
+    /// (both stay as they were when the conformation was held). Each
+    /// fragment's gradient sums ([`Field::rigid_fragment_sums`]) are
+    /// carried up the tree as
+    /// [`Ligand::gradient`] does.
+    pub fn energy_full_gradient<F: Field + ?Sized>(
+        &self,
+        field: &F,
+        pose: &Pose,
+        ws: &mut Workspace,
+        out: &mut Gradient,
+    ) -> Energies {
+        let sums = &mut ws.tree;
+        let inter = field.rigid_fragment_sums(self, pose, sums);
+        let m = DMat3::from_quat(pose.rotation);
+        out.torsions.clear();
+        out.torsions.extend_from_slice(&self.intra_torsions);
+        let (mut force, mut moment) = (DVec3::ZERO, DVec3::ZERO);
+        for (f, bond) in self.bonds.iter().enumerate().rev() {
+            let (sum, turn) = sums[f];
+            match bond {
+                Some(b) => {
+                    let (at, axis) = (m * b.at, m * b.axis);
+                    out.torsions[b.torsion as usize] += axis.dot(turn - at.cross(sum));
+                    let w = &mut sums[b.parent as usize];
+                    w.0 += sum;
+                    w.1 += turn;
+                }
+                None => {
+                    force += sum;
+                    moment += turn;
+                }
+            }
+        }
+        out.translation = force;
+        out.rotation = moment;
+        Energies {
+            inter,
+            intra: self.intra_continuous,
+        }
     }
 }

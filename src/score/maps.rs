@@ -327,7 +327,7 @@ impl Lattice {
     /// in lattice units), lane `l` reading `maps[l]` (an empty map for a
     /// lane that has none), in f32: the map values are f32 already, so the
     /// interpolation loses nothing that matters at their accuracy.
-    #[inline]
+    #[inline(always)]
     pub fn interpolate4(&self, maps: [&Quads; 4], g: [f32x4; 3]) -> Lanes {
         let zero = f32x4::ZERO;
         let top = self.top.as_vec3();
@@ -652,6 +652,102 @@ impl Field for MapField<'_> {
     /// `Σ (gᵢ − g_T) × ∇ᵢ`, in which the spacing cancels. Atoms the maps
     /// miss are scored exactly.
     fn rigid_energy_gradient(&self, drug: &RigidDrug, pose: &Pose) -> (f64, DVec3, DVec3) {
+        let zero = f32x4::ZERO;
+        let (mut sum, mut moment) = (DVec3::ZERO, DVec3::ZERO);
+        let (e, gt, inv, (s4, t4)) = self.rigid_lanes(
+            drug,
+            pose,
+            ([zero; 3], [zero; 3]),
+            |(mut s4, mut t4), _, g, d| {
+                for a in 0..3 {
+                    s4[a] += d[a];
+                }
+                t4[0] += g[1] * d[2] - g[2] * d[1];
+                t4[1] += g[2] * d[0] - g[0] * d[2];
+                t4[2] += g[0] * d[1] - g[1] * d[0];
+                (s4, t4)
+            },
+            |_, gd, d| {
+                sum += d;
+                moment += gd.cross(d);
+            },
+        );
+        let total = |v: f32x4| f64::from(v.reduce_add());
+        sum += DVec3::new(total(s4[0]), total(s4[1]), total(s4[2]));
+        moment += DVec3::new(total(t4[0]), total(t4[1]), total(t4[2]));
+        (e, sum * inv, moment - gt.cross(sum))
+    }
+
+    /// As [`Self::rigid_energy_gradient`], each lane's gradient and moment
+    /// about the pose's centre (in lattice units, in which the spacing
+    /// cancels) added into its fragment's sums; the gradients are scaled
+    /// at the end.
+    fn rigid_fragment_sums(
+        &self,
+        drug: &RigidDrug,
+        pose: &Pose,
+        sums: &mut Vec<(DVec3, DVec3)>,
+    ) -> f64 {
+        sums.clear();
+        sums.resize(drug.fragment_count(), (DVec3::ZERO, DVec3::ZERO));
+        let frags = drug.fragments();
+        let l = &self.maps.lattice;
+        let gt = (pose.translation - l.origin) * (1.0 / l.spacing);
+        let gt4 = gt.to_array().map(|v| f32x4::splat(v as f32));
+        // Atoms the maps miss are few (none inside the box): kept aside.
+        let mut missed = Vec::new();
+        let (e, _, inv, sums) = self.rigid_lanes(
+            drug,
+            pose,
+            sums,
+            |sums, c, g, d| {
+                let r = [g[0] - gt4[0], g[1] - gt4[1], g[2] - gt4[2]];
+                let t = [
+                    r[1] * d[2] - r[2] * d[1],
+                    r[2] * d[0] - r[0] * d[2],
+                    r[0] * d[1] - r[1] * d[0],
+                ];
+                let (d, t) = (d.map(f32x4::to_array), t.map(f32x4::to_array));
+                for (k, &f) in frags.iter().skip(4 * c).take(4).enumerate() {
+                    let w = &mut sums[f as usize];
+                    w.0 += DVec3::new(d[0][k].into(), d[1][k].into(), d[2][k].into());
+                    w.1 += DVec3::new(t[0][k].into(), t[1][k].into(), t[2][k].into());
+                }
+                sums
+            },
+            |i, gd, d| missed.push((i, gd, d)),
+        );
+        for (i, gd, d) in missed {
+            let w = &mut sums[frags[i] as usize];
+            w.0 += d;
+            w.1 += (gd - gt).cross(d);
+        }
+        for w in sums.iter_mut() {
+            w.0 *= inv;
+        }
+        e
+    }
+}
+
+impl MapField<'_> {
+    /// The walk of [`Field::rigid_energy_gradient`]: each group of four
+    /// atoms moved into lattice units and read from the maps, folded into
+    /// `state` by `lanes(state, group, positions, gradients)` (gradients
+    /// per lattice unit, the curl applied; zero in lanes the maps miss),
+    /// and each atom the maps miss scored exactly and handed to
+    /// `missed(atom, position, gradient)` in the same units. Returns the
+    /// energy, the pose's translation in lattice units, the inverse spacing
+    /// and the state. (The state goes by value, so that sums kept in it
+    /// stay in registers.)
+    #[inline(always)]
+    fn rigid_lanes<S>(
+        &self,
+        drug: &RigidDrug,
+        pose: &Pose,
+        mut state: S,
+        lanes_of: impl Fn(S, usize, &[f32x4; 3], &[f32x4; 3]) -> S,
+        mut missed_atom: impl FnMut(usize, DVec3, DVec3),
+    ) -> (f64, DVec3, f64, S) {
         let l = &self.maps.lattice;
         let inv = 1.0 / l.spacing;
         let m = DMat3::from_quat(pose.rotation) * inv;
@@ -660,8 +756,8 @@ impl Field for MapField<'_> {
         let gt4 = gt.to_array().map(|v| f32x4::splat(v as f32));
         let empty: &Quads = &[];
         let zero = f32x4::ZERO;
-        let (mut e4, mut s4, mut t4) = (zero, [zero; 3], [zero; 3]);
-        let (mut e, mut sum, mut moment) = (0.0, DVec3::ZERO, DVec3::ZERO);
+        let mut e4 = zero;
+        let mut e = 0.0;
         let (local, xs) = (drug.local(), drug.xs());
         for (c, y) in drug.lanes().iter().enumerate() {
             let ts = xs.get(4 * c..).unwrap_or(&[]);
@@ -685,12 +781,7 @@ impl Field for MapField<'_> {
                 e4 += v;
                 lanes.gradient
             };
-            for a in 0..3 {
-                s4[a] += d[a];
-            }
-            t4[0] += g[1] * d[2] - g[2] * d[1];
-            t4[1] += g[2] * d[0] - g[0] * d[2];
-            t4[2] += g[0] * d[1] - g[1] * d[0];
+            state = lanes_of(state, c, &g, &d);
             // Lanes the maps miss (their values are zero): exactly.
             let mut missed = lanes.missed & ((1 << n) - 1);
             while missed != 0 {
@@ -701,21 +792,13 @@ impl Field for MapField<'_> {
                     .exact
                     .atom_energy_gradient(ts[k], l.origin + gd * l.spacing);
                 let (v, s) = curl_with_slope(v);
-                let d = d * (s * l.spacing);
                 e += v;
-                sum += d;
-                moment += gd.cross(d);
+                missed_atom(4 * c + k, gd, d * (s * l.spacing));
             }
         }
-        let total = |v: f32x4| f64::from(v.reduce_add());
-        e += total(e4);
-        sum += DVec3::new(total(s4[0]), total(s4[1]), total(s4[2]));
-        moment += DVec3::new(total(t4[0]), total(t4[1]), total(t4[2]));
-        (e, sum * inv, moment - gt.cross(sum))
+        (e + f64::from(e4.reduce_add()), gt, inv, state)
     }
-}
 
-impl MapField<'_> {
     /// The map of type `t` (empty: none).
     #[inline]
     fn map_of(&self, t: XsType) -> &Quads {
@@ -788,7 +871,7 @@ mod tests {
 
     use super::*;
     use crate::rng::Rng;
-    use crate::score::Ligand;
+    use crate::score::{Gradient, Ligand, Workspace};
 
     fn receptor(seed: u64, n: usize) -> Receptor {
         let mut rng = Rng(seed);
@@ -852,19 +935,26 @@ mod tests {
     }
 
     /// A rigid drug of `n` atoms of `types` in turn, spread over a few Å.
+    /// A drug of `n` atoms in a box, split into fragments of up to three
+    /// atoms, each joined to an earlier one by a rotatable bond.
     fn rigid_drug(rng: &mut Rng, n: usize, types: &[XsType]) -> Ligand {
         let local: Vec<DVec3> = (0..n).map(|_| rng.in_box(DVec3::splat(3.0))).collect();
         let xs: Vec<Option<XsType>> = (0..n).map(|i| Some(types[i % types.len()])).collect();
-        let fragments = vec![crate::score::Fragment {
-            parent: None,
-            bond: None,
-            atoms: (0..n as u32).collect(),
-        }];
+        let fragments: Vec<crate::score::Fragment> = (0..n.div_ceil(3))
+            .map(|f| {
+                let parent = (f > 0).then(|| (rng.next_u64() % f as u64) as u32);
+                crate::score::Fragment {
+                    parent,
+                    bond: parent.map(|p| [3 * p, 3 * f as u32]),
+                    atoms: (3 * f as u32..(3 * f as u32 + 3).min(n as u32)).collect(),
+                }
+            })
+            .collect();
         Ligand::from_parts(local, fragments, &xs, vec![0.0; n], &[], 0.0).unwrap()
     }
 
     #[test]
-    fn four_lane_rigid_path_agrees_with_the_per_atom_path() {
+    fn four_lane_rigid_paths_agree_with_the_per_atom_path() {
         let r = receptor(7, 500);
         // The box covers part of where the drug goes: atoms outside it,
         // and atoms of a type without a map, are scored exactly.
@@ -875,19 +965,35 @@ mod tests {
         let slow = crate::score::PerAtom(&fast);
         let mut rng = Rng(17);
         let types = [XsType::C_H, XsType::O_A, XsType::N_D];
+        let close = |a: f64, b: f64| (a - b).abs() <= 2e-4 * (1.0 + b.abs());
+        let (mut ws, mut ws0) = (Workspace::default(), Workspace::default());
+        let (mut g, mut g0) = (Gradient::default(), Gradient::default());
         for n in [1, 4, 5, 11] {
             let lig = rigid_drug(&mut rng, n, &types);
-            let drug = RigidDrug::new(&fast, &lig, &[]);
+            let torsions: Vec<f64> = (0..lig.torsions()).map(|_| rng.range(-3.0, 3.0)).collect();
+            let drug = RigidDrug::new(&fast, &lig, &torsions);
             for _ in 0..40 {
                 let rotation = glam::DQuat::from_axis_angle(rng.unit(), rng.f64() * 3.0);
                 let pose = Pose::new(rotation, rng.in_box(DVec3::splat(4.0)));
                 let (e, f, m) = drug.energy_gradient(&fast, &pose);
                 let (e0, f0, m0) = drug.energy_gradient(&slow, &pose);
-                let close = |a: f64, b: f64| (a - b).abs() <= 2e-4 * (1.0 + b.abs());
                 assert!(close(e, e0), "{n} atoms: energy {e} vs {e0}");
                 for a in 0..3 {
                     assert!(close(f[a], f0[a]), "{n} atoms: force {f} vs {f0}");
                     assert!(close(m[a], m0[a]), "{n} atoms: moment {m} vs {m0}");
+                }
+                // The whole gradient: the rigid part is the same, and each
+                // bond's torque agrees.
+                let h = drug.energy_full_gradient(&fast, &pose, &mut ws, &mut g);
+                let h0 = drug.energy_full_gradient(&slow, &pose, &mut ws0, &mut g0);
+                assert!(close(h.inter, h0.inter) && close(h.inter, e0), "{n} atoms");
+                assert_eq!(g.torsions.len(), lig.torsions());
+                for a in 0..3 {
+                    assert!(close(g.translation[a], f0[a]), "{n} atoms: {g:?} vs {f0}");
+                    assert!(close(g.rotation[a], m0[a]), "{n} atoms: {g:?} vs {m0}");
+                }
+                for (t, t0) in g.torsions.iter().zip(&g0.torsions) {
+                    assert!(close(*t, *t0), "{n} atoms: {g:?} vs {g0:?}");
                 }
             }
         }
