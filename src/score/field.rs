@@ -9,6 +9,12 @@
 //! per pair to the intramolecular one) and, for the gradient, carry each
 //! atom's gradient up the torsion tree to the force, torque and torsion
 //! torques ([`Ligand::gradient`]).
+//!
+//! [`RigidDrug`] holds one conformation for a drug moved rigidly: its
+//! intramolecular energy and that energy's torques on the bonds are kept
+//! (distances within the drug do not change), so a query reads only the
+//! intermolecular field, and its whole gradient comes from the field's
+//! gradient summed per fragment, carried up the tree.
 
 use glam::{DMat3, DVec3};
 use wide::f32x4;

@@ -7,7 +7,8 @@
 //!   and gradients (force, torque, torsion torques).
 //! - [`receptor`]: the receptor's typed atoms in a cell list.
 //! - [`field`]: what an evaluator provides; a conformation's energy and
-//!   gradient on top of one.
+//!   gradient on top of one, and a conformation held while the drug moves
+//!   rigidly (its whole gradient without placing atoms through the tree).
 //! - [`exact`]: the exact evaluator (pairs within 8 Å), reading per-cell
 //!   candidate lists (`candidates`).
 //! - [`maps`]: grid maps per type, built on a background thread, read by
