@@ -540,6 +540,8 @@ fn steer_reports_the_run_as_json_and_refuses_a_zero_direction() {
     assert_eq!(v["response"], "pass");
     assert!(v["start_distance"].as_f64().expect("start") >= 8.0);
     assert!(v["final_rmsd"].as_f64().expect("final") < 1e-6);
+    // At the file pose there is no push left to measure against a surface.
+    assert!(v["end_push_into_surface"].is_null(), "{v}");
     // The path pressed deeper than the soft limit is there exactly when the
     // run went deeper than the limit at all.
     let beyond = v["path_beyond_limit"].as_f64().expect("beyond");

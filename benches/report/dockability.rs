@@ -20,6 +20,8 @@
 //! there, how much of their path ran deeper than the default limit: set
 //! beside the straight path's length through the receptor, it tells a
 //! drug that went round the receptor from one that went through it.
+//! Last, where the soft flexible runs that miss end: pressed against the
+//! receptor with the push head-on into its smoothed surface, or not.
 
 use std::path::Path;
 use std::time::Instant;
@@ -189,7 +191,22 @@ struct Row {
     step_p99: f64,
     /// Runs settled, median settled RMSD, collision-free after settle.
     settled: Option<(usize, f64, usize)>,
+    /// The runs that do not get there: how many, how many of those end
+    /// pressed against the receptor, the cosines of their push against the
+    /// receptor's smoothed surface, and their final RMSDs.
+    missed: Missed,
 }
+
+/// Where the runs that do not get there end.
+#[derive(Default)]
+struct Missed {
+    runs: usize,
+    cosines: Vec<f64>,
+    rmsd: Vec<f64>,
+}
+
+/// A push within 30° of the receptor's inward surface normal: head-on.
+const HEAD_ON_COS: f64 = 0.866;
 
 /// One row of the soft-limit sweep: soft flexible on a complex at one limit.
 struct SweepRow {
@@ -358,7 +375,63 @@ fn summarise(complex: &'static str, opts: SteerOptions, runs: &[Run]) -> Row {
         beyond_limit: median(&done.iter().map(|r| r.path_beyond_limit).collect::<Vec<_>>()),
         step_median: median(&steps),
         step_p99: quantile(&steps, 0.99),
+        missed: {
+            let missed: Vec<&&SteerReport> = done.iter().filter(|r| !r.reached).collect();
+            Missed {
+                runs: missed.len(),
+                cosines: missed
+                    .iter()
+                    .filter_map(|r| r.end_push_into_surface)
+                    .collect(),
+                rmsd: missed.iter().map(|r| r.final_rmsd).collect(),
+            }
+        },
     }
+}
+
+/// Where the soft flexible runs that do not get there end.
+fn missed_markdown(rows: &[Row]) -> String {
+    let mut md = String::from(
+        "\n### Where the runs that do not get there end\n\n\
+         The soft flexible runs above that miss the pocket, at their last frame: how many end \
+         pressed against the receptor; the cosine between the controller's push (towards the \
+         file pose's centre) and the inward normal of the receptor's smoothed surface at the \
+         touching atoms (the surface the glide follows: 1 is head-on into the receptor's \
+         body, 0 along it); how many push within 30° of head-on; and how far from the file \
+         pose they end. Near head-on the glide has little to slide along, and what it has \
+         leads to where the push meets the surface head-on, where such a run rests: the \
+         receptor's body lies between the drug and its pocket, and only a path round the \
+         receptor, which the controller does not take, would get it there.\n\n\
+         | complex | missed | end against the receptor | push into its surface, cos (median) | head-on (within 30°) | RMSD at the end Å (median) |\n\
+         | --- | ---: | ---: | ---: | ---: | ---: |\n",
+    );
+    for r in rows
+        .iter()
+        .filter(|r| r.response == Response::Soft && r.flexible)
+    {
+        let m = &r.missed;
+        let (cos, rmsd) = if m.runs == 0 {
+            ("–".to_string(), "–".to_string())
+        } else {
+            (
+                if m.cosines.is_empty() {
+                    "–".to_string()
+                } else {
+                    format!("{:.2}", median(&m.cosines))
+                },
+                format!("{:.1}", median(&m.rmsd)),
+            )
+        };
+        md.push_str(&format!(
+            "| {} | {} of {} | {} | {cos} | {} | {rmsd} |\n",
+            r.complex,
+            m.runs,
+            r.starts,
+            m.cosines.len(),
+            m.cosines.iter().filter(|&&c| c >= HEAD_ON_COS).count(),
+        ));
+    }
+    md
 }
 
 fn run(ctx: &Context, progress: &mut Progress) -> Part {
@@ -469,6 +542,7 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
         ));
     }
     md.push_str("\n![dockability](bench/dockability.svg)\n");
+    md.push_str(&missed_markdown(&rows));
     let (sweep_md, sweep_headline) = sweep_markdown(&sweep, |c| {
         rows.iter()
             .find(|r| r.complex == c && r.flexible && r.response == Response::Pass)
@@ -486,12 +560,19 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
                 .iter()
                 .find(|(c, _)| *c == r.complex)
                 .map_or(String::new(), |(_, t)| format!("; {t}"));
+            let head_on = r
+                .missed
+                .cosines
+                .iter()
+                .filter(|&&c| c >= HEAD_ON_COS)
+                .count();
             format!(
-                "Dockability, soft flexible: {} reached from {} of {} starts ({:.0} %){found}",
+                "Dockability, soft flexible: {} reached from {} of {} starts ({:.0} %; {head_on} of the {} that miss end pushing head-on into the receptor's body){found}",
                 r.complex,
                 r.reached,
                 r.starts,
-                rate(r)
+                rate(r),
+                r.missed.runs
             )
         })
         .collect();

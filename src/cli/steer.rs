@@ -106,6 +106,12 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
         r.step_us_median,
         r.step_us_p99
     );
+    if let Some(c) = r.end_push_into_surface {
+        outln!(
+            "ends pressed against the receptor, pushing {:.0}° off the inward normal of its smoothed surface (0°: head-on into its body)",
+            c.clamp(-1.0, 1.0).acos().to_degrees()
+        );
+    }
     if let Some(s) = &r.settled {
         outln!(
             "settle: {}; RMSD {:.2} Å{}; {}",

@@ -154,6 +154,14 @@ pub struct SteerReport {
     /// under `soft` with a looser limit, how much of the path ran through
     /// the receptor farther in than the default lets it.
     pub path_beyond_default_limit: f64,
+    /// Where the run ends pressed against the receptor with the file
+    /// pose's centre more than a step away: the cosine between the push
+    /// towards it and the inward normal of the receptor's smoothed surface
+    /// at the touching atoms ([`crate::collide::soft::glide_normal`]);
+    /// near 1, the push runs head-on into the receptor's body, where
+    /// sliding along the surface gains nothing. `None` when the drug ends
+    /// free of the receptor or within a step of the file pose.
+    pub end_push_into_surface: Option<f64>,
     /// Median time of one collision response step (a rigid move or a
     /// bond's turn), µs.
     pub step_us_median: f64,
@@ -284,6 +292,22 @@ fn proposal(session: &Session, file: &Pose, flexible: bool) -> Vec<Command> {
     commands
 }
 
+/// [`SteerReport::end_push_into_surface`] of the drug where it stands.
+fn push_into_surface(session: &mut Session, file: &Pose) -> Option<f64> {
+    let pose = session.bodies()[1].pose;
+    let push = file.translation - pose.translation;
+    if push.length() <= MAX_STEP {
+        return None;
+    }
+    let tolerance = session.settings.touch.tolerance as f32;
+    let env = session.environment()?;
+    let rel = env.frame.inverse().compose(&pose);
+    let contacts = crate::collide::pairs_within(&env.collider, &env.drug, &rel, tolerance);
+    let inward = -crate::collide::soft::glide_normal(&env.collider, &env.drug, &rel, &contacts)?;
+    // The normal is in the collider's frame.
+    Some((env.frame.rotation.inverse() * push.normalize()).dot(inward))
+}
+
 /// Runs the controller: `receptor` stays, `drug` starts along `direction`
 /// and is steered towards its file pose as `opts` says.
 ///
@@ -344,6 +368,7 @@ pub fn steer(
         deepest_overlap: 0.0,
         path_beyond_limit: 0.0,
         path_beyond_default_limit: 0.0,
+        end_push_into_surface: None,
         step_us_median: 0.0,
         step_us_p99: 0.0,
         settled: None,
@@ -384,6 +409,7 @@ pub fn steer(
         }
     }
     report.final_rmsd = now_rmsd(&session);
+    report.end_push_into_surface = push_into_surface(&mut session, &file);
     if opts.settle {
         let out = session.step(&FrameInput::with_commands(&[Command::Settle]), 0.0);
         let b = &session.bodies()[1];
@@ -471,6 +497,67 @@ mod tests {
                 .all(|t| (t.abs() - 60f64.to_radians()).abs() < 1e-15)
         );
         assert!(a.iter().any(|t| *t > 0.0) && a.iter().any(|t| *t < 0.0));
+    }
+
+    /// A wall of carbons in the plane z = 0 (two layers, 1.5 Å apart,
+    /// 48 Å wide), and three carbons behind it at z = −8 as the drug.
+    fn wall_and_drug() -> (Molecule, Molecule) {
+        use crate::model::molecule::test_carbon;
+        let mut pos = Vec::new();
+        for (z, shift) in [(0.0, 0.0), (-1.5, 1.5)] {
+            for i in -8..=8 {
+                for j in -8..=8 {
+                    pos.push(DVec3::new(
+                        3.0 * f64::from(i) + shift,
+                        3.0 * f64::from(j) + shift,
+                        z,
+                    ));
+                }
+            }
+        }
+        let atoms = (1..=pos.len() as i64).map(test_carbon).collect();
+        let wall = Molecule::new("wall", atoms, &pos);
+        let drug_at = [-1.3, 0.0, 1.3].map(|x| DVec3::new(x, 0.4, -8.0));
+        let drug = Molecule::new("drug", (1..=3).map(test_carbon).collect(), &drug_at);
+        (wall, drug)
+    }
+
+    #[test]
+    fn a_run_held_by_a_wall_ends_pushing_head_on_into_it() {
+        let (wall, drug) = wall_and_drug();
+        let r = steer(
+            wall.clone(),
+            drug.clone(),
+            Settings::default(),
+            DVec3::Z,
+            &opts(Response::Touch),
+        )
+        .expect("steer");
+        assert!(!r.reached, "{r:?}");
+        let cos = r.end_push_into_surface.expect("pressed against the wall");
+        assert!(cos > 0.99, "{r:?}");
+        // From an oblique start, the push meets the wall at a slant.
+        let slant = DVec3::new(1.0, 0.0, 1.0);
+        let r = steer(
+            wall.clone(),
+            drug.clone(),
+            Settings::default(),
+            slant,
+            &opts(Response::Touch),
+        )
+        .expect("steer");
+        let cos = r.end_push_into_surface.expect("pressed against the wall");
+        assert!(cos > 0.3 && cos < 0.95, "{r:?}");
+        // Through the wall (collision off) it gets there: nothing to say.
+        let r = steer(
+            wall,
+            drug,
+            Settings::default(),
+            DVec3::Z,
+            &opts(Response::Pass),
+        )
+        .expect("steer");
+        assert!(r.reached && r.end_push_into_surface.is_none(), "{r:?}");
     }
 
     #[test]
