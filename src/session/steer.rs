@@ -18,7 +18,9 @@
 //! ring turned over, a carboxylate's oxygens; [`symmetry`]). A frame that moves nothing ends the run early: the
 //! session is a function of its state, so the next frame would propose
 //! the same and be refused the same. With `settle`, the session's settle
-//! ([`Command::Settle`]) runs from the final pose.
+//! ([`Command::Settle`]) runs from the final pose. A run that ends
+//! pressed against the receptor reports how squarely its last push ran into
+//! the receptor's smoothed surface ([`SteerReport::end_push_into_surface`]).
 //!
 //! Everything a soft frame needs (the environment, the loosened index,
 //! the clearance map) is built before the first frame
@@ -158,9 +160,9 @@ pub struct SteerReport {
     /// pose's centre more than a step away: the cosine between the push
     /// towards it and the inward normal of the receptor's smoothed surface
     /// at the touching atoms ([`crate::collide::soft::glide_normal`]);
-    /// near 1, the push runs head-on into the receptor's body, where
-    /// sliding along the surface gains nothing. `None` when the drug ends
-    /// free of the receptor or within a step of the file pose.
+    /// near 1, the push runs head-on into the receptor's body and leaves
+    /// the glide little to slide along. `None` when the drug ends free of
+    /// the receptor or within a step of the file pose.
     pub end_push_into_surface: Option<f64>,
     /// Median time of one collision response step (a rigid move or a
     /// bond's turn), µs.
