@@ -385,30 +385,10 @@ mod tests {
         assert!(pressed_some, "no step pressed into the band");
     }
 
-    /// A bumpy wall: two square layers of carbons 3 Å apart, the lower
-    /// one under the upper one's hollows.
-    fn wall() -> Molecule {
-        use crate::model::molecule::test_carbon;
-        let mut pos = Vec::new();
-        for (z, shift) in [(0.0, 0.0), (-1.5, 1.5)] {
-            for i in -8..=8 {
-                for j in -8..=8 {
-                    pos.push(DVec3::new(
-                        3.0 * f64::from(i) + shift,
-                        3.0 * f64::from(j) + shift,
-                        z,
-                    ));
-                }
-            }
-        }
-        let atoms = (1..=pos.len() as i64).map(test_carbon).collect();
-        Molecule::new("wall", atoms, &pos)
-    }
-
     #[test]
     fn a_push_caught_in_a_hollow_glides_along_the_wall() {
         use crate::model::molecule::test_carbon;
-        let wall = wall();
+        let wall = crate::model::molecule::test_wall();
         let probe = Molecule::new("probe", vec![test_carbon(1)], &[DVec3::ZERO]);
         let rule = ContactRule::default();
         let hard = Collider::build(&wall, &rule, ColliderKind::Hashed);

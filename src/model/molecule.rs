@@ -238,3 +238,24 @@ pub(crate) fn test_carbon(serial: i64) -> AtomInfo {
         hetero: false,
     }
 }
+
+/// A bumpy wall of carbons for unit tests: two square layers, 3 Å between
+/// neighbours and 48 Å wide, at z = 0 and z = −1.5 Å, the lower one under
+/// the upper one's hollows.
+#[cfg(test)]
+pub(crate) fn test_wall() -> Molecule {
+    let mut pos = Vec::new();
+    for (z, shift) in [(0.0, 0.0), (-1.5, 1.5)] {
+        for i in -8..=8 {
+            for j in -8..=8 {
+                pos.push(glam::DVec3::new(
+                    3.0 * f64::from(i) + shift,
+                    3.0 * f64::from(j) + shift,
+                    z,
+                ));
+            }
+        }
+    }
+    let atoms = (1..=pos.len() as i64).map(test_carbon).collect();
+    Molecule::new("wall", atoms, &pos)
+}

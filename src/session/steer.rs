@@ -501,27 +501,14 @@ mod tests {
         assert!(a.iter().any(|t| *t > 0.0) && a.iter().any(|t| *t < 0.0));
     }
 
-    /// A wall of carbons in the plane z = 0 (two layers, 1.5 Å apart,
-    /// 48 Å wide), and three carbons behind it at z = −8 as the drug.
+    /// A wall of carbons in the plane z = 0, 48 Å wide
+    /// ([`crate::model::molecule::test_wall`]), and three carbons behind it
+    /// at z = −8 as the drug.
     fn wall_and_drug() -> (Molecule, Molecule) {
-        use crate::model::molecule::test_carbon;
-        let mut pos = Vec::new();
-        for (z, shift) in [(0.0, 0.0), (-1.5, 1.5)] {
-            for i in -8..=8 {
-                for j in -8..=8 {
-                    pos.push(DVec3::new(
-                        3.0 * f64::from(i) + shift,
-                        3.0 * f64::from(j) + shift,
-                        z,
-                    ));
-                }
-            }
-        }
-        let atoms = (1..=pos.len() as i64).map(test_carbon).collect();
-        let wall = Molecule::new("wall", atoms, &pos);
+        use crate::model::molecule::{test_carbon, test_wall};
         let drug_at = [-1.3, 0.0, 1.3].map(|x| DVec3::new(x, 0.4, -8.0));
         let drug = Molecule::new("drug", (1..=3).map(test_carbon).collect(), &drug_at);
-        (wall, drug)
+        (test_wall(), drug)
     }
 
     #[test]
