@@ -596,6 +596,47 @@ fn steer_reports_the_run_as_json_and_refuses_a_zero_direction() {
 }
 
 #[test]
+fn steer_soft_goes_round_the_receptor_from_its_far_side() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let file = dir.join("6xg5_tmp_prepared.pdb");
+    let file = file.to_str().expect("path");
+    // The dockability report's fifth direction: the receptor's body lies
+    // between this start and the pocket, and every straight path in
+    // presses deeper than the soft limit (`pass`, below). `soft` keeps to
+    // the limit and gets there round the body.
+    let run = |response: &str| {
+        json(&[
+            "steer",
+            file,
+            "--ligand",
+            "TOP",
+            "--direction",
+            "-0.6846403743767794,0.71875,-0.12110324220772714",
+            "--response",
+            response,
+            "--flexible",
+            "--seed",
+            "5",
+            "--json",
+        ])
+    };
+    let straight = run("pass");
+    assert!(
+        straight["deepest_overlap"].as_f64().expect("deepest") > 1.5,
+        "{straight}"
+    );
+    let soft = run("soft");
+    assert_eq!(soft["reached"], true, "{soft}");
+    assert!(
+        soft["deepest_overlap"].as_f64().expect("deepest") <= 1.0 + 1e-4,
+        "{soft}"
+    );
+    assert_eq!(soft["path_beyond_limit"], 0.0, "{soft}");
+}
+
+#[test]
 fn steer_flexible_turns_the_torsions_home_and_settles_free_of_overlaps() {
     let Some(dir) = common::shared_pdb() else {
         return;

@@ -7,7 +7,8 @@
 //! compact groups ([`grouping`]); [`mod@check`] answers static queries;
 //! [`sweep`] moves the drug to touch without tunnelling; [`response`]
 //! turns a proposed step into the session's answer (stop, touch, slide,
-//! soft, pass), [`soft`] with the loosened index it needs; [`torsion`]
+//! soft, pass), [`soft`] with the loosened index it needs and
+//! [`body_shape`] with the receptor's body-scale shape for its glide; [`torsion`]
 //! turns one side of a rotatable bond without collisions; [`stats`]
 //! measures grid occupancy (the thesis's Table 1); [`layers`] names the
 //! optional layers that make queries fast, each of which can be turned off
@@ -15,6 +16,7 @@
 //! benchmarks measure these against live with them, in the dev-only crate
 //! `bump-testkit`.
 
+pub mod body_shape;
 pub mod check;
 pub mod clearance;
 pub mod collider;

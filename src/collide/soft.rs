@@ -25,6 +25,18 @@
 //! catches between atoms carries the drug over them and round the
 //! receptor's body instead of holding it in the hollow.
 //!
+//! What that glide cannot take, the drug glides round the receptor's
+//! *body*: along the surface smoothed over
+//! [`BODY_SIGMA`](super::body_shape::BODY_SIGMA) Å at the drug's
+//! centre ([`BodyShape`]), lifted off it by [`BODY_CLIMB`]° so that it
+//! rides over the atoms in the way, and only in the measure that the
+//! receptor's mass there is one-sided (as at its outer surface, not in a
+//! pocket: [`body_glide_weight`]). Pushed at the receptor's far side from
+//! where it is headed, the drug so works its way round the body towards
+//! the near side instead of resting where the push meets the surface
+//! head-on; in a pocket, where the mass is all round, nothing lifts it
+//! out.
+//!
 //! What is still left of the push then turns the drug as the pressed
 //! pairs' torque turns it ([`contact_turn`]): pushed off-centre against
 //! the receptor, a real body rolls round what holds it, and a drug that
@@ -37,6 +49,9 @@
 
 use glam::DVec3;
 
+use std::sync::Arc;
+
+use super::body_shape::BodyShape;
 use super::check::{Pair, pairs_within};
 use super::collider::{Collider, ColliderKind};
 use super::drug::DrugAtoms;
@@ -58,6 +73,21 @@ pub const MAX_LIMIT: f64 = 3.0;
 /// shape stays.
 pub const GLIDE_SIGMA: f64 = 3.0;
 
+/// How steeply the glide round the receptor's body climbs off its smoothed
+/// surface, degrees: the lift per Å along it is `tan` of this, enough to
+/// ride over an atom in the way rather than wedge against it.
+pub const BODY_CLIMB: f64 = 20.0;
+
+/// One-sidedness of the receptor's mass ([`super::body_shape::BodyPoint`])
+/// at and below which the drug does not glide round the body: about the
+/// mouth of a pocket, whose rim surrounds the drug on more than half its
+/// sides.
+pub const POCKET_ONE_SIDEDNESS: f64 = 0.6;
+
+/// One-sidedness at a flat surface, `√(2/π)` (the mean of a half-normal
+/// over σ): from here outwards the drug glides round the body in full.
+pub const FLAT_ONE_SIDEDNESS: f64 = 0.797_884_560_802_865_4;
+
 /// The loosened index of one receptor and drug: built once per limit.
 #[derive(Debug, Clone)]
 pub struct SoftIndex {
@@ -69,10 +99,15 @@ pub struct SoftIndex {
     pub collider: Collider,
     /// The drug set up for the loosened rule.
     pub drug: DrugAtoms,
+    /// The receptor's body-scale shape (`None` for an empty receptor),
+    /// shared by the indexes of every limit.
+    pub body: Option<Arc<BodyShape>>,
 }
 
 impl SoftIndex {
-    /// Indexes `receptor` and `drug` for `rule` loosened by `limit` Å.
+    /// Indexes `receptor` and `drug` for `rule` loosened by `limit` Å,
+    /// with the receptor's body-scale shape `body` when it is already
+    /// built (an index for another limit has it), else building it.
     ///
     /// # Errors
     /// When `limit` is not finite, negative or above [`MAX_LIMIT`].
@@ -82,15 +117,23 @@ impl SoftIndex {
         rule: &ContactRule,
         limit: f64,
         kind: ColliderKind,
+        body: Option<Arc<BodyShape>>,
     ) -> Result<Self, RuleError> {
         let soft = loosened(rule, limit)?;
         let collider = Collider::build(receptor, &soft, kind);
         let drug = DrugAtoms::new(drug, &soft, collider.max_radius());
+        let body = body.or_else(|| {
+            let atoms: Vec<DVec3> = (0..collider.len() as u32)
+                .map(|i| collider.atom_position(i).as_dvec3())
+                .collect();
+            BodyShape::build(&atoms).map(Arc::new)
+        });
         Ok(Self {
             limit,
             rule: soft,
             collider,
             drug,
+            body,
         })
     }
 }
@@ -163,6 +206,19 @@ pub fn respond_soft(
             r.pose = glide.pose;
         }
     }
+    // What that glide could not take glides round the receptor's body.
+    let rest = end.translation - r.pose.translation;
+    if rest.length() > opts.tolerance
+        && let Some(body) = &soft.body
+        && let Some(along) = body_glide(body, r.pose.translation, rest)
+    {
+        let target = Pose::new(r.pose.rotation, r.pose.translation + along);
+        let glide = slide(&soft.collider, &soft.drug, &r.pose, &target, opts);
+        r.legs += glide.legs;
+        r.via.push(r.pose);
+        r.via.extend(glide.via);
+        r.pose = glide.pose;
+    }
     r.response = Response::Soft;
     r.contacts = pairs_within(collider, drug, &r.pose, tol);
     // What is still left of the push turns the drug as the pressed pairs'
@@ -213,6 +269,31 @@ pub fn glide_normal(
         g += (c - q.truncate().as_dvec3()) * (-f64::from(d2) / s2).exp();
     });
     g.try_normalize()
+}
+
+/// How much of a push the drug glides round the receptor's body where the
+/// receptor's mass is `one_sided` ([`super::body_shape::BodyPoint`]): none
+/// up to [`POCKET_ONE_SIDEDNESS`], all from [`FLAT_ONE_SIDEDNESS`], linear
+/// between.
+pub fn body_glide_weight(one_sided: f64) -> f64 {
+    ((one_sided - POCKET_ONE_SIDEDNESS) / (FLAT_ONE_SIDEDNESS - POCKET_ONE_SIDEDNESS))
+        .clamp(0.0, 1.0)
+}
+
+/// The glide round the receptor's body of `rest`, the part of a push that
+/// the contacts and the first glide stopped, for the drug centred at
+/// `centre`: its part along the body's smoothed surface, weighed by
+/// [`body_glide_weight`] and lifted off the surface by [`BODY_CLIMB`]°.
+/// `None` where `rest` does not run into the body or the weight is 0.
+pub fn body_glide(body: &BodyShape, centre: DVec3, rest: DVec3) -> Option<DVec3> {
+    let at = body.at(centre)?;
+    let weight = body_glide_weight(at.one_sidedness);
+    let into = rest.dot(at.normal);
+    if into >= 0.0 || weight <= 0.0 {
+        return None;
+    }
+    let along = (rest - at.normal * into) * weight;
+    Some(along + at.normal * along.length() * BODY_CLIMB.to_radians().tan())
 }
 
 /// Largest turn of [`contact_turn`] in one step, degrees: the steering
@@ -335,8 +416,8 @@ mod tests {
         let mut rng = Rng(44);
         let mut pressed_some = false;
         for limit in [0.0, 0.5, 1.0, 2.0] {
-            let soft =
-                SoftIndex::build(&rings, &e, &rule, limit, ColliderKind::Hashed).expect("index");
+            let soft = SoftIndex::build(&rings, &e, &rule, limit, ColliderKind::Hashed, None)
+                .expect("index");
             for _ in 0..40 {
                 // Start clear of the rings, then push hard towards their
                 // centre in steps of up to 3 Å and 20°.
@@ -393,8 +474,15 @@ mod tests {
         let rule = ContactRule::default();
         let hard = Collider::build(&wall, &rule, ColliderKind::Hashed);
         let drug = DrugAtoms::new(&probe, &rule, hard.max_radius());
-        let soft = SoftIndex::build(&wall, &probe, &rule, DEFAULT_LIMIT, ColliderKind::Hashed)
-            .expect("index");
+        let soft = SoftIndex::build(
+            &wall,
+            &probe,
+            &rule,
+            DEFAULT_LIMIT,
+            ColliderKind::Hashed,
+            None,
+        )
+        .expect("index");
         let opts = TouchOptions::default();
         // The wall's smoothed surface faces +z over its middle.
         let above = Pose::from_translation(DVec3::new(1.5, 1.5, 3.0) - wall.centre);
@@ -427,6 +515,48 @@ mod tests {
         }
         let along = pose.translation.x - x0;
         assert!(along > 6.0, "glided {along} Å along the wall");
+    }
+
+    #[test]
+    fn a_push_at_a_bodys_far_side_glides_round_it_and_a_pocket_keeps_it() {
+        // A ball of atoms 15 Å across: at its outside the mass is one-sided
+        // and the glide takes all of a push along the surface, lifted by
+        // the climb; at its centre, mass all round, none.
+        let mut rng = Rng(11);
+        let atoms: Vec<DVec3> = (0..4000)
+            .map(|_| {
+                loop {
+                    let p = rng.in_box(DVec3::ONE);
+                    if p.length() <= 1.0 {
+                        break p * 15.0;
+                    }
+                }
+            })
+            .collect();
+        let body = BodyShape::build(&atoms).expect("shape");
+        let centre = DVec3::new(0.0, 0.0, 18.0);
+        // Pushed nearly head-on (10° off) into the ball's top.
+        let push = DVec3::new(10f64.to_radians().sin(), 0.0, -10f64.to_radians().cos()) * 0.3;
+        let along = body_glide(&body, centre, push).expect("a glide");
+        let normal = body.at(centre).expect("inside the grid").normal;
+        let lift = along.dot(normal);
+        let tangent = along - normal * lift;
+        let want = push - normal * push.dot(normal);
+        assert!((tangent - want).length() < 1e-9, "{tangent} vs {want}");
+        assert!(
+            (lift - tangent.length() * BODY_CLIMB.to_radians().tan()).abs() < 1e-9,
+            "{lift}"
+        );
+        // Pulled away from the ball: nothing to glide round.
+        assert!(body_glide(&body, centre, -push).is_none());
+        // At the ball's centre, as deep in a pocket, the drug is not lifted out.
+        assert!(body_glide(&body, DVec3::new(0.3, 0.1, -0.2), push).is_none());
+        assert_eq!(body_glide_weight(POCKET_ONE_SIDEDNESS), 0.0);
+        assert_eq!(body_glide_weight(FLAT_ONE_SIDEDNESS), 1.0);
+        assert!(
+            (body_glide_weight(FLAT_ONE_SIDEDNESS.midpoint(POCKET_ONE_SIDEDNESS)) - 0.5).abs()
+                < 1e-12
+        );
     }
 
     #[test]
@@ -482,7 +612,8 @@ mod tests {
         let rule = ContactRule::default();
         let hard = Collider::build(&rings, &rule, ColliderKind::Hashed);
         let drug = DrugAtoms::new(&e, &rule, hard.max_radius());
-        let soft = SoftIndex::build(&rings, &e, &rule, 1.0, ColliderKind::Hashed).expect("index");
+        let soft =
+            SoftIndex::build(&rings, &e, &rule, 1.0, ColliderKind::Hashed, None).expect("index");
         let opts = TouchOptions::default();
         let dir = DVec3::new(0.1, 0.2, -1.0).normalize();
         let mut pose = Pose::from_translation(-dir * 20.0);

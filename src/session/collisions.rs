@@ -205,6 +205,8 @@ impl Session {
         {
             return Some(Arc::clone(s));
         }
+        // The receptor's body shape does not depend on the limit.
+        let body = env.soft.as_ref().and_then(|s| s.body.clone());
         let one = match &env.owners {
             Owners::One(k) => Some(*k),
             Owners::Merged(_) => None,
@@ -223,6 +225,7 @@ impl Session {
             &self.settings.rule,
             limit,
             self.settings.collider,
+            body,
         )
         .ok()?;
         let index = Arc::new(index);
