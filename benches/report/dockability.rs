@@ -398,10 +398,11 @@ fn missed_markdown(rows: &[Row]) -> String {
          file pose's centre) and the inward normal of the receptor's smoothed surface at the \
          touching atoms (the surface the glide follows: 1 is head-on into the receptor's \
          body, 0 along it); how many push within 30° of head-on; and how far from the file \
-         pose they end. Near head-on the glide has little to slide along, and what it has \
-         leads to where the push meets the surface head-on, where such a run rests: the \
-         receptor's body lies between the drug and its pocket, and only a path round the \
-         receptor, which the controller does not take, would get it there.\n\n\
+         pose they end. Near head-on the glide along the surface has little to slide along; \
+         the glide round the receptor's body (its shape smoothed over 10 Å) carries such a \
+         run on round, unless the body's shape, too, meets the push head-on there, or the \
+         climb does not ride over the atoms in the way, or the receptor's mass round the drug \
+         is as all-round as in a pocket's mouth, where nothing lifts the drug out.\n\n\
          | complex | missed | end against the receptor | push into its surface, cos (median) | head-on (within 30°) | RMSD at the end Å (median) |\n\
          | --- | ---: | ---: | ---: | ---: | ---: |\n",
     );
