@@ -29,8 +29,8 @@ pub const BODY_SIGMA: f64 = 10.0;
 pub const SPACING: f64 = 2.5;
 
 /// Space round the receptor's atoms that the grid covers, Å: two σ, where
-/// the density has fallen to an eighth of its value at the surface (and a
-/// drug pressed against the receptor has its centre well inside).
+/// an atom's weight has fallen to e⁻² (and a drug pressed against the
+/// receptor has its centre well inside).
 pub const MARGIN: f64 = 2.0 * BODY_SIGMA;
 
 /// Most grid nodes (16 bytes each, a few times that while building).
@@ -202,7 +202,7 @@ fn convolve(src: &[f32], dims: [usize; 3], axis: usize, kernel: &[f32]) -> Vec<f
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::rng::Rng;
 
@@ -215,7 +215,8 @@ mod tests {
         })
     }
 
-    fn blob(rng: &mut Rng, n: usize, radius: f64) -> Vec<DVec3> {
+    /// `n` points drawn uniformly in a ball of `radius` Å at the origin.
+    pub(crate) fn blob(rng: &mut Rng, n: usize, radius: f64) -> Vec<DVec3> {
         (0..n)
             .map(|_| {
                 loop {

@@ -8,9 +8,9 @@
 //! [`sweep`] moves the drug to touch without tunnelling; [`response`]
 //! turns a proposed step into the session's answer (stop, touch, slide,
 //! soft, pass), [`soft`] with the loosened index it needs and
-//! [`body_shape`] with the receptor's body-scale shape for its glide; [`torsion`]
-//! turns one side of a rotatable bond without collisions; [`stats`]
-//! measures grid occupancy (the thesis's Table 1); [`layers`] names the
+//! [`body_shape`] with the receptor's body-scale shape for its glide;
+//! [`torsion`] turns one side of a rotatable bond without collisions;
+//! [`stats`] measures grid occupancy (the thesis's Table 1); [`layers`] names the
 //! optional layers that make queries fast, each of which can be turned off
 //! to measure what it saves. The exact f64 answers that tests and
 //! benchmarks measure these against live with them, in the dev-only crate
