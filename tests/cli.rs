@@ -603,9 +603,10 @@ fn steer_soft_goes_round_the_receptor_from_its_far_side() {
     let file = dir.join("6xg5_tmp_prepared.pdb");
     let file = file.to_str().expect("path");
     // The dockability report's fifth direction: the receptor's body lies
-    // between this start and the pocket, and every straight path in
-    // presses deeper than the soft limit (`pass`, below). `soft` keeps to
-    // the limit and gets there round the body.
+    // between this start and the pocket, and the straight path in presses
+    // 1.5 Å and more past the contact rule (`pass`, below), beyond the
+    // 1 Å soft limit. `soft` keeps to the limit and gets there round the
+    // body.
     let run = |response: &str| {
         json(&[
             "steer",
