@@ -97,7 +97,7 @@ impl Judge {
     }
 
     /// Every overlapping pair at drug world positions `x`, under the rule
-    /// (receptor pairs loosened by `soft` Å).
+    /// loosened by `soft` Å (receptor pairs and the drug's own alike).
     fn overlaps(&self, x: &[DVec3], soft: f64) -> Vec<Overlap> {
         let mut out = Vec::new();
         let centre = x.iter().copied().sum::<DVec3>() / x.len() as f64;
@@ -116,6 +116,7 @@ impl Judge {
             }
         }
         for &(i, j, c) in &self.inner {
+            let c = c - soft;
             let d = (x[i as usize] - x[j as usize]).length();
             if c >= 0.0 && d <= c {
                 out.push(("drug", i, j, d, c));
@@ -151,6 +152,7 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
         return;
     };
     let mut report = Vec::new();
+    let mut total_pressed = 0;
     for &id in LIGANDS {
         assert!(COMPLEXES.iter().any(|c| c.0 == id));
         let mut s = docking(&dir, id, response);
@@ -171,6 +173,7 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
         let mut rng = Rng(seed);
         let (mut turned, mut blocked) = (0, 0);
         let mut undo = 0;
+        let mut pressed = 0;
         for step in 0..steps {
             let k = (rng.f64() * n as f64) as usize % n;
             let degrees = rng.range(-180.0, 180.0);
@@ -217,6 +220,25 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
                 bad.is_empty(),
                 "{id} step {step} ({degrees:.1}° of bond {k}): {bad:?}"
             );
+            // Pressed into the band within the drug (only `soft` may).
+            let inside = |o: &&Overlap| o.0 == "drug";
+            let now_inside: Vec<Overlap> = judge
+                .overlaps(&after_x, 0.0)
+                .iter()
+                .filter(inside)
+                .copied()
+                .collect();
+            let was_inside: Vec<Overlap> = judge
+                .overlaps(&before_x, 0.0)
+                .iter()
+                .filter(inside)
+                .copied()
+                .collect();
+            if !worse(&now_inside, &was_inside).is_empty() {
+                assert_eq!(response, Response::Soft, "{id} step {step}: {now_inside:?}");
+                pressed += 1;
+                total_pressed += 1;
+            }
             // Along the path: the moving side turns about the bond.
             let bond = &s.rotatable_bonds(1)[k];
             let before_local = s.shape_at(1, &before_t).unwrap().0;
@@ -257,7 +279,7 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
             }
         }
         report.push(format!(
-            "{id}: {n} bonds, {turned} turns made ({blocked} stopped short or refused)"
+            "{id}: {n} bonds, {turned} turns made ({blocked} stopped short or refused, {pressed} pressed the drug's own atoms into the band)"
         ));
         assert!(turned > 0, "{id}: no turn was ever allowed");
         // Undo every turn: back at the file's conformation and pose, bit for bit.
@@ -286,6 +308,12 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
         assert!(s.unsaved().is_empty() || s.unsaved() == [1]);
     }
     eprintln!("{}", report.join("\n"));
+    if response == Response::Soft {
+        assert!(
+            total_pressed > 0,
+            "no turn pressed the drug's own atoms into the soft band"
+        );
+    }
 }
 
 #[test]

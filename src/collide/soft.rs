@@ -162,10 +162,16 @@ pub fn depth(p: &Pair) -> f32 {
 /// The resistance of the pressed pairs in `pairs`, in [0, 1): the fraction
 /// of a push into them that `soft` takes away.
 pub fn resistance(pairs: &[Pair], limit: f64) -> f64 {
+    resistance_of(pairs.iter().map(depth), limit)
+}
+
+/// The resistance of pairs pressed `depths` Å beyond the default rule (see
+/// [`resistance`]).
+pub fn resistance_of(depths: impl IntoIterator<Item = f32>, limit: f64) -> f64 {
     if limit <= 0.0 {
         return 0.0;
     }
-    let e: f64 = pairs.iter().map(|p| f64::from(depth(p)).powi(2)).sum();
+    let e: f64 = depths.into_iter().map(|d| f64::from(d).powi(2)).sum();
     1.0 - 1.0 / (1.0 + 4.0 * e / (limit * limit))
 }
 

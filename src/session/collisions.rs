@@ -443,11 +443,17 @@ impl Session {
         if !out.highlight_changes.is_empty() {
             out.changed = true;
         }
+        let b = self.selected;
+        let pressed_inside = self
+            .flex
+            .get(b)
+            .and_then(Option::as_ref)
+            .is_some_and(|f| f.pressed);
         if self.settings.collision
             && !self.bodies.is_empty()
+            && !pressed_inside
             && contacts.iter().all(|c| c.depth() <= 0.0)
         {
-            let b = self.selected;
             let pose = self.bodies[b].pose;
             let torsions = self
                 .flex

@@ -274,9 +274,10 @@ pub struct Session {
     /// generation, the atoms).
     typed_receptor: Option<(usize, u64, Arc<crate::score::Receptor>)>,
     /// The selected molecule's latest pose and torsions at which it
-    /// overlapped nothing under the contact rule, as its contacts were last
-    /// found (molecule, pose, torsions): where settle starts when it cannot
-    /// free the drug from a pose pressed into the `soft` band.
+    /// overlapped nothing under the contact rule (neither the receptor nor
+    /// its own atoms), as its contacts were last found (molecule, pose,
+    /// torsions): where settle starts when it cannot free the drug from a
+    /// pose pressed into the `soft` band.
     last_clear: Option<(usize, Pose, Vec<f64>)>,
 }
 

@@ -115,8 +115,9 @@ pub struct Settled {
     /// Vina's intermolecular energy after settle, kcal/mol (None when
     /// settle changed nothing).
     pub score: Option<f64>,
-    /// Whether the drug collides with the receptor under the contact rule
-    /// after settle.
+    /// Whether the drug collides with the receptor, or two of its own atoms
+    /// more than three bonds apart collide, under the contact rule after
+    /// settle.
     pub collides: bool,
 }
 
@@ -215,6 +216,19 @@ fn clear(
                 && !rule.collides(radius, polar, b.radius, b.polar, d2 as f32)
         })
     })
+}
+
+/// Whether two atoms of `drug` more than three bonds apart collide under
+/// `rule` (brute force: the judge).
+fn folded_into_itself(drug: &Molecule, rule: &ContactRule) -> bool {
+    let chem = drug.chemistry();
+    crate::chem::torsions::pairs_beyond_three_bonds(&chem.adjacency)
+        .into_iter()
+        .any(|(i, j)| {
+            let (a, b) = (&drug.atoms[i as usize], &drug.atoms[j as usize]);
+            let d2 = drug.local[i as usize].distance_squared(drug.local[j as usize]);
+            rule.collides(a.radius, a.polar, b.radius, b.polar, d2)
+        })
 }
 
 /// The receptor's atoms in the world: (radius, polar, position).
@@ -419,7 +433,8 @@ pub fn steer(
             applied: out.settled.is_some(),
             rmsd: now_rmsd(&session),
             score: out.settled.as_ref().map(|p| p.inter.1),
-            collides: !clear(&receptor_atoms, &b.molecule, &b.pose, &rule, 0.0),
+            collides: !clear(&receptor_atoms, &b.molecule, &b.pose, &rule, 0.0)
+                || folded_into_itself(&b.molecule, &rule),
         });
     }
     let mut sorted = report.step_us.clone();

@@ -18,11 +18,13 @@
 //! the moving side against the receptor by move-to-touch and against the
 //! drug's other atoms more than three bonds away in closed form, the largest
 //! collision-free part of the turn taken (`soft` presses into the receptor
-//! as its loosened rule lets it, never into the drug itself; `pass` checks
-//! nothing). The end is checked once more with the static rule, and the
-//! turn halved, up to a few times, if rounding disagrees. With `soft`, the
-//! frame's resistance follows the pairs the turn leaves pressed in, as for
-//! a rigid push.
+//! and into the drug's own atoms as its loosened rule lets it, so that the
+//! halves of a drug turned into each other's way squeeze past as a real
+//! molecule's do, and settle then frees them; `pass` checks nothing). The
+//! end is checked once more with the static rule, and the turn halved, up
+//! to a few times, if rounding disagrees. With `soft`, the frame's
+//! resistance follows the pairs the turn leaves pressed in, the receptor's
+//! and the drug's own, as for a rigid push.
 //!
 //! After a change of conformation the collider's copy of the drug, the live
 //! score and the contacts follow; [`Reshaped`] tells the renderer which
@@ -32,9 +34,9 @@ use std::sync::Arc;
 
 use glam::{DMat3, DVec3, Vec3};
 
-use super::{FrameOutcome, Role, Session};
+use super::{Contact, FrameOutcome, Role, Session};
 use crate::collide::torsion::{InnerPair, Turn, inner_fraction, inner_pairs, receptor_fraction};
-use crate::collide::{DrugAtoms, Response};
+use crate::collide::{ContactRule, DrugAtoms, Response};
 use crate::model::Molecule;
 use crate::motion::Pose;
 use crate::score::{Conformation, Exact, Ligand, Receptor, Scoring, SettleOptions, prepare};
@@ -132,8 +134,9 @@ pub(super) struct Flex {
     hydrogen_parent: Arc<Vec<u32>>,
     /// The rotatable bonds, in the torsion tree's order.
     pub(super) bonds: Arc<Vec<TorsionBond>>,
-    /// Per bond: the pairs its turn can bring together, made on first use.
-    inner: Vec<Option<Arc<Vec<InnerPair>>>>,
+    /// Per bond: the pairs its turn can bring together and the rule they
+    /// were made for, made on first use under that rule.
+    inner: Vec<Option<(ContactRule, Arc<Vec<InnerPair>>)>>,
     /// Atom pairs more than three bonds apart.
     beyond: Arc<Vec<(u32, u32)>>,
     /// The collider's grouping of the loaded shape (it stays compact as
@@ -147,6 +150,10 @@ pub(super) struct Flex {
     pub(super) selected: Option<usize>,
     /// The torsions when loaded or last saved.
     pub(super) saved: Vec<f64>,
+    /// Whether two of the drug's own atoms (more than three bonds apart)
+    /// overlap under the default rule at the current conformation (pressed
+    /// into each other in the `soft` band).
+    pub(super) pressed: bool,
 }
 
 impl Flex {
@@ -192,6 +199,7 @@ impl Flex {
             torsions,
             generation: 0,
             selected: None,
+            pressed: false,
         })
     }
 
@@ -229,13 +237,10 @@ impl Flex {
     }
 
     /// The pairs a turn of bond `k` can bring together, under `rule`.
-    fn inner(
-        &mut self,
-        k: usize,
-        mol: &Molecule,
-        rule: &crate::collide::ContactRule,
-    ) -> Arc<Vec<InnerPair>> {
-        if let Some(Some(p)) = self.inner.get(k) {
+    fn inner(&mut self, k: usize, mol: &Molecule, rule: &ContactRule) -> Arc<Vec<InnerPair>> {
+        if let Some(Some((r, p))) = self.inner.get(k)
+            && r == rule
+        {
             return Arc::clone(p);
         }
         let mut moving = vec![false; mol.len()];
@@ -246,9 +251,28 @@ impl Flex {
         }
         let pairs = Arc::new(inner_pairs(mol, &moving, &self.beyond, rule));
         if let Some(slot) = self.inner.get_mut(k) {
-            *slot = Some(Arc::clone(&pairs));
+            *slot = Some((*rule, Arc::clone(&pairs)));
         }
         pairs
+    }
+
+    /// How deep each pair of atoms more than three bonds apart that collides
+    /// under `rule` at `local` presses beyond its contact distance (brute
+    /// force over those pairs; the pairs that do not collide are left out).
+    fn inside_depths<'a>(
+        &'a self,
+        mol: &'a Molecule,
+        local: &'a [Vec3],
+        rule: &'a ContactRule,
+    ) -> impl Iterator<Item = f32> + 'a {
+        self.beyond.iter().filter_map(move |&(i, j)| {
+            let (a, b) = (mol.atoms.get(i as usize)?, mol.atoms.get(j as usize)?);
+            let (p, q) = (local.get(i as usize)?, local.get(j as usize)?);
+            let c = rule.contact_distance(a.radius, a.polar, b.radius, b.polar);
+            // The rule's own test decides; the depth is what it exceeds by.
+            rule.collides(a.radius, a.polar, b.radius, b.polar, p.distance_squared(*q))
+                .then(|| (c - p.distance(*q)).max(0.0))
+        })
     }
 }
 
@@ -360,6 +384,11 @@ impl Session {
         let (atoms, hydrogens) = f.shape(&torsions);
         f.torsions = torsions;
         f.generation += 1;
+        let pressed = f
+            .inside_depths(&self.bodies[b].molecule, &atoms, &self.settings.rule)
+            .next()
+            .is_some();
+        f.pressed = pressed;
         let groups = Arc::clone(&f.groups);
         let mol = &mut self.bodies[b].molecule;
         let moved = Reshaped {
@@ -559,18 +588,16 @@ impl Session {
                 self.refresh_contacts(out);
                 if self.settings.response == Response::Soft {
                     // The pairs pressed into the band resist as they do a
-                    // rigid push (what a controller's rumble follows).
-                    let pressed: Vec<crate::collide::Pair> = self
-                        .contacts
-                        .iter()
-                        .map(|c| crate::collide::Pair {
-                            receptor: c.other.1 as u32,
-                            drug: c.moving.1 as u32,
-                            distance: c.distance,
-                            contact: c.contact,
-                        })
-                        .collect();
-                    let r = crate::collide::soft::resistance(&pressed, self.settings.soft_limit);
+                    // rigid push (what a controller's rumble follows), and
+                    // so do the drug's own atoms pressed into each other.
+                    let mut depths: Vec<f32> = self.contacts.iter().map(Contact::depth).collect();
+                    if let Some(f) = self.flex.get(b).and_then(Option::as_ref)
+                        && f.pressed
+                    {
+                        let mol = &self.bodies[b].molecule;
+                        depths.extend(f.inside_depths(mol, &mol.local, &self.settings.rule));
+                    }
+                    let r = crate::collide::soft::resistance_of(depths, self.settings.soft_limit);
                     out.resistance = out.resistance.max(r);
                 }
                 return radians * t;
@@ -580,6 +607,18 @@ impl Session {
             self.bodies[b].pose = from;
             tries += 1;
             t = if tries >= END_CHECKS { 0.0 } else { t * 0.5 };
+        }
+    }
+
+    /// The rule a turn's pairs within the drug are held to: the default
+    /// rule, loosened by the limit under `soft` (the drug's own atoms press
+    /// into each other as into the receptor's).
+    fn inner_rule(&self) -> ContactRule {
+        let rule = self.settings.rule;
+        if self.settings.response == Response::Soft {
+            crate::collide::soft::loosened(&rule, self.settings.soft_limit).unwrap_or(rule)
+        } else {
+            rule
         }
     }
 
@@ -595,10 +634,11 @@ impl Session {
         out: &mut FrameOutcome,
     ) -> f64 {
         let rule = self.settings.rule;
+        let inner_rule = self.inner_rule();
         let touch = self.settings.touch;
         let t0 = std::time::Instant::now();
         let pairs = match self.flex.get_mut(b).and_then(Option::as_mut) {
-            Some(f) => f.inner(k, &self.bodies[b].molecule, &rule),
+            Some(f) => f.inner(k, &self.bodies[b].molecule, &inner_rule),
             None => return 0.0,
         };
         let (t_inner, _) = inner_fraction(local, &pairs, turn, touch.tolerance);
@@ -648,8 +688,9 @@ impl Session {
     /// the response's rule, and the bond's pairs within the drug.
     fn turn_end_clear(&mut self, b: usize, k: usize, before: Vec<Vec3>, from: Pose) -> bool {
         let rule = self.settings.rule;
+        let inner_rule = self.inner_rule();
         let pairs = match self.flex.get_mut(b).and_then(Option::as_mut) {
-            Some(f) => f.inner(k, &self.bodies[b].molecule, &rule),
+            Some(f) => f.inner(k, &self.bodies[b].molecule, &inner_rule),
             None => return true,
         };
         let now = &self.bodies[b].molecule.local;
