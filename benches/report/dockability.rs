@@ -504,7 +504,8 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
          where no response that keeps to the limit can follow it). Step times are each \
          collision response's (a rigid move or one bond's turn), over every run. The soft \
          flexible runs then settle (the session's settle, exact Vina): the median heavy-atom \
-         RMSD after settle and how many end free of overlaps. {} runs in {seconds:.0} s.\n\n\
+         RMSD after settle and how many end free of overlaps (with the receptor and within \
+         the drug). {} runs in {seconds:.0} s.\n\n\
          | complex | drug | response | starts | reached | rate | frames (median) | deepest Å | least deepest Å | straight within the limit | beyond the limit Å (median) | step µs (median) | step µs (p99) | settled RMSD Å (median) | settled collision-free |\n\
          | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
         rows.iter().map(|r| r.starts).sum::<usize>()
