@@ -638,6 +638,47 @@ fn steer_soft_goes_round_the_receptor_from_its_far_side() {
 }
 
 #[test]
+fn steer_soft_presses_the_drugs_own_atoms_no_deeper_than_the_limit() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let file = dir.join("4dfr.pdb");
+    let file = file.to_str().expect("path");
+    // The dockability report's fourth direction: the start's seeded turns
+    // of methotrexate's bonds press its halves 1.7 Å into each other, past
+    // the 1 Å soft limit. `soft` lets them come apart, presses the drug's
+    // own atoms no deeper than the limit on the way in, and settles free
+    // of overlaps, within the drug too; `slide` presses nothing.
+    let run = |response: &str| {
+        json(&[
+            "steer",
+            file,
+            "--ligand",
+            "MTX",
+            "--direction",
+            "0.3797986477904189,0.78125,0.4953800809848628",
+            "--response",
+            response,
+            "--flexible",
+            "--settle",
+            "--seed",
+            "4",
+            "--json",
+        ])
+    };
+    let soft = run("soft");
+    let overlap = |v: &serde_json::Value, k: &str| v[k].as_f64().expect("overlap");
+    assert!(overlap(&soft, "start_inner_overlap") > 1.0, "{soft}");
+    let inner = overlap(&soft, "deepest_inner_overlap");
+    assert!(inner > 0.0 && inner <= 1.0 + 1e-4, "{soft}");
+    assert!(overlap(&soft, "deepest_overlap") <= 1.0 + 1e-4, "{soft}");
+    assert_eq!(soft["settled"]["collides"], false, "{soft}");
+    let slide = run("slide");
+    assert_eq!(overlap(&slide, "deepest_inner_overlap"), 0.0, "{slide}");
+    assert_eq!(overlap(&slide, "deepest_overlap"), 0.0, "{slide}");
+}
+
+#[test]
 fn steer_flexible_turns_the_torsions_home_and_settles_free_of_overlaps() {
     let Some(dir) = common::shared_pdb() else {
         return;

@@ -239,6 +239,25 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
                 pressed += 1;
                 total_pressed += 1;
             }
+            // Every such pair is a contact of the drug with itself, graded
+            // by its depth as the receptor's are.
+            let listed: Vec<(u32, u32)> = s
+                .contacts()
+                .iter()
+                .filter(|c| c.moving.0 == 1 && c.other.0 == 1)
+                .map(|c| {
+                    let (i, j) = (c.moving.1 as u32, c.other.1 as u32);
+                    (i.min(j), i.max(j))
+                })
+                .collect();
+            let mut want: Vec<(u32, u32)> = now_inside
+                .iter()
+                .map(|o| (o.1.min(o.2), o.1.max(o.2)))
+                .collect();
+            want.sort_unstable();
+            let mut got = listed.clone();
+            got.sort_unstable();
+            assert_eq!(got, want, "{id} step {step}: the drug's own pressed pairs");
             // Along the path: the moving side turns about the bond.
             let bond = &s.rotatable_bonds(1)[k];
             let before_local = s.shape_at(1, &before_t).unwrap().0;

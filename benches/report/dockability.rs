@@ -262,7 +262,10 @@ fn limit_sweep(
                 starts: done.len(),
                 reached: there.len(),
                 median_frames: (!frames.is_empty()).then(|| median(&frames)),
-                deepest: done.iter().map(|r| r.deepest_overlap).fold(0.0, f64::max),
+                deepest: done
+                    .iter()
+                    .map(|r| r.deepest_overlap.max(r.deepest_inner_overlap))
+                    .fold(0.0, f64::max),
                 beyond_default: (!beyond.is_empty()).then(|| median(&beyond)),
             }
         })
@@ -363,7 +366,10 @@ fn summarise(complex: &'static str, opts: SteerOptions, runs: &[Run]) -> Row {
         starts: done.len(),
         reached: done.iter().filter(|r| r.reached).count(),
         median_frames: (!frames.is_empty()).then(|| median(&frames)),
-        deepest: done.iter().map(|r| r.deepest_overlap).fold(0.0, f64::max),
+        deepest: done
+            .iter()
+            .map(|r| r.deepest_overlap.max(r.deepest_inner_overlap))
+            .fold(0.0, f64::max),
         least_deepest: done
             .iter()
             .map(|r| r.deepest_overlap)
@@ -494,7 +500,9 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
          docking benchmarks count it). {n} Fibonacci directions per complex, Bondi radii, hydrogens dropped, the \
          default contact rule (overlap 0.6 Å, H-bond allowance 0.4 Å), soft limit 1 Å. \
          *Frames* is the median frame at which the runs that got there got there; *deepest* \
-         the deepest overlap beyond the contact rule over every run; *least deepest* the least \
+         the deepest overlap beyond the contact rule over every run, with the receptor or \
+         within the drug (where a turn pressed its own atoms deeper than the start's seeded \
+         turns had them); *least deepest* the least \
          of the runs' deepest overlaps (under `pass`, collision off, how far the best straight \
          path from outside presses into the receptor: more than the soft limit means no \
          response that keeps to it can follow a straight path in); *straight within the \

@@ -100,9 +100,11 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
         r.frames
     );
     outln!(
-        "deepest overlap beyond the contact rule: {:.3} Å ({:.1} Å of the path deeper than the soft limit); a step takes {:.1} µs (median), {:.1} µs (p99)",
+        "deepest overlap beyond the contact rule: {:.3} Å with the receptor ({:.1} Å of the path deeper than the soft limit), {:.3} Å within the drug beyond its start's {:.3} Å; a step takes {:.1} µs (median), {:.1} µs (p99)",
         r.deepest_overlap,
         r.path_beyond_limit,
+        r.deepest_inner_overlap,
+        r.start_inner_overlap,
         r.step_us_median,
         r.step_us_p99
     );

@@ -396,7 +396,12 @@ impl Session {
         let t0 = Instant::now();
         let pairs = crate::collide::pairs_within(&env.collider, &env.drug, &rel, tol);
         out.collision_timed(t0);
-        let contacts = env.contacts(b, &pairs);
+        let mut contacts = env.contacts(b, &pairs);
+        if let Some(f) = self.flex.get(b).and_then(Option::as_ref)
+            && f.pressed
+        {
+            contacts.extend(f.pressed_inside(b, &self.bodies[b].molecule, &self.settings.rule));
+        }
         self.set_contacts(contacts, out);
     }
 
@@ -443,17 +448,11 @@ impl Session {
         if !out.highlight_changes.is_empty() {
             out.changed = true;
         }
-        let b = self.selected;
-        let pressed_inside = self
-            .flex
-            .get(b)
-            .and_then(Option::as_ref)
-            .is_some_and(|f| f.pressed);
         if self.settings.collision
             && !self.bodies.is_empty()
-            && !pressed_inside
             && contacts.iter().all(|c| c.depth() <= 0.0)
         {
+            let b = self.selected;
             let pose = self.bodies[b].pose;
             let torsions = self
                 .flex

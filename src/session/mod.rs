@@ -134,7 +134,9 @@ pub struct Body {
 pub struct Contact {
     /// The moving molecule and its atom.
     pub moving: (usize, usize),
-    /// The other molecule and its atom.
+    /// The other molecule and its atom: another atom of the moving
+    /// molecule itself for two of a drug's own atoms (more than three bonds
+    /// apart) that a torsion turn under `soft` pressed into each other.
     pub other: (usize, usize),
     /// Centre distance, Å.
     pub distance: f32,

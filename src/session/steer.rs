@@ -145,8 +145,18 @@ pub struct SteerReport {
     pub final_rmsd: f64,
     /// Frames run.
     pub frames: usize,
-    /// Deepest overlap beyond the default contact rule over the run, Å.
+    /// Deepest overlap with the receptor beyond the default contact rule
+    /// over the run, Å.
     pub deepest_overlap: f64,
+    /// Deepest overlap between the drug's own atoms (more than three bonds
+    /// apart) beyond the default contact rule at the start: the seeded
+    /// turns of its bonds can put its halves into each other, Å.
+    pub start_inner_overlap: f64,
+    /// Deepest overlap between the drug's own atoms beyond the default
+    /// contact rule over the run's frames, counting a pair only where it
+    /// is deeper than at the start (a pair the start pressed in may only
+    /// come apart), Å.
+    pub deepest_inner_overlap: f64,
     /// Length of the drug centre's path over the frames that end pressed
     /// deeper than the soft limit beyond the contact rule, Å: under `pass`
     /// (collision off), how much of the straight path runs through the
@@ -218,17 +228,24 @@ fn clear(
     })
 }
 
-/// Whether two atoms of `drug` more than three bonds apart collide under
-/// `rule` (brute force: the judge).
-fn folded_into_itself(drug: &Molecule, rule: &ContactRule) -> bool {
+/// The pairs of `drug`'s atoms more than three bonds apart that collide
+/// under `rule`, with how far each presses beyond its contact distance
+/// (brute force: the judge).
+fn inner_overlaps(drug: &Molecule, rule: &ContactRule) -> Vec<((usize, usize), f32)> {
     let chem = drug.chemistry();
     crate::chem::torsions::pairs_beyond_three_bonds(&chem.adjacency)
         .into_iter()
-        .any(|(i, j)| {
-            let (a, b) = (&drug.atoms[i as usize], &drug.atoms[j as usize]);
-            let d2 = drug.local[i as usize].distance_squared(drug.local[j as usize]);
-            rule.collides(a.radius, a.polar, b.radius, b.polar, d2)
+        .filter_map(|(i, j)| {
+            let (i, j) = (i as usize, j as usize);
+            let (a, b) = (drug.atoms.get(i)?, drug.atoms.get(j)?);
+            let (p, q) = (drug.local.get(i)?, drug.local.get(j)?);
+            rule.collides(a.radius, a.polar, b.radius, b.polar, p.distance_squared(*q))
+                .then(|| {
+                    let c = rule.contact_distance(a.radius, a.polar, b.radius, b.polar);
+                    ((i.min(j), i.max(j)), (c - p.distance(*q)).max(0.0))
+                })
         })
+        .collect()
 }
 
 /// The receptor's atoms in the world: (radius, polar, position).
@@ -355,6 +372,9 @@ pub fn steer(
     if torsions > 0 {
         session.set_torsions(1, &start_torsions(torsions, opts.seed))?;
     }
+    // Sorted by pair for the lookups of each frame.
+    let mut start_inner = inner_overlaps(&session.bodies()[1].molecule, &rule);
+    start_inner.sort_by_key(|a| a.0);
     let (rec, drg) = (&session.bodies()[0], &session.bodies()[1]);
     let receptor_atoms = world_atoms(&rec.molecule, &rec.pose);
     let (start, start_distance) =
@@ -382,6 +402,11 @@ pub fn steer(
         final_rmsd: 0.0,
         frames: 0,
         deepest_overlap: 0.0,
+        start_inner_overlap: start_inner
+            .iter()
+            .map(|&(_, d)| f64::from(d))
+            .fold(0.0, f64::max),
+        deepest_inner_overlap: 0.0,
         path_beyond_limit: 0.0,
         path_beyond_default_limit: 0.0,
         end_push_into_surface: None,
@@ -400,12 +425,20 @@ pub fn steer(
         let out = session.step(&FrameInput::with_commands(&commands), 0.0);
         report.frames = frame;
         report.step_us.extend(out.collision_calls.iter().copied());
-        let deepest = out
-            .contacts
-            .iter()
-            .map(Contact::depth)
-            .fold(0.0f32, f32::max);
+        let (inner, receptor): (Vec<&Contact>, Vec<&Contact>) =
+            out.contacts.iter().partition(|c| c.other.0 == c.moving.0);
+        let deepest = receptor.iter().map(|c| c.depth()).fold(0.0f32, f32::max);
         report.deepest_overlap = report.deepest_overlap.max(f64::from(deepest));
+        for c in inner {
+            let key = (c.moving.1.min(c.other.1), c.moving.1.max(c.other.1));
+            let at_start = start_inner
+                .binary_search_by(|(k, _)| k.cmp(&key))
+                .map_or(0.0, |i| start_inner[i].1);
+            if c.depth() > at_start + 1e-6 {
+                report.deepest_inner_overlap =
+                    report.deepest_inner_overlap.max(f64::from(c.depth()));
+            }
+        }
         let centre = session.bodies()[1].pose.translation;
         if f64::from(deepest) > limit + 1e-6 {
             report.path_beyond_limit += centre.distance(last_centre);
@@ -434,7 +467,7 @@ pub fn steer(
             rmsd: now_rmsd(&session),
             score: out.settled.as_ref().map(|p| p.inter.1),
             collides: !clear(&receptor_atoms, &b.molecule, &b.pose, &rule, 0.0)
-                || folded_into_itself(&b.molecule, &rule),
+                || !inner_overlaps(&b.molecule, &rule).is_empty(),
         });
     }
     let mut sorted = report.step_us.clone();

@@ -256,23 +256,45 @@ impl Flex {
         pairs
     }
 
-    /// How deep each pair of atoms more than three bonds apart that collides
-    /// under `rule` at `local` presses beyond its contact distance (brute
-    /// force over those pairs; the pairs that do not collide are left out).
-    fn inside_depths<'a>(
-        &'a self,
-        mol: &'a Molecule,
-        local: &'a [Vec3],
-        rule: &'a ContactRule,
-    ) -> impl Iterator<Item = f32> + 'a {
-        self.beyond.iter().filter_map(move |&(i, j)| {
-            let (a, b) = (mol.atoms.get(i as usize)?, mol.atoms.get(j as usize)?);
-            let (p, q) = (local.get(i as usize)?, local.get(j as usize)?);
-            let c = rule.contact_distance(a.radius, a.polar, b.radius, b.polar);
-            // The rule's own test decides; the depth is what it exceeds by.
+    /// Whether two atoms more than three bonds apart collide under `rule`
+    /// at `local` (brute force over those pairs).
+    fn collides_inside(&self, mol: &Molecule, local: &[Vec3], rule: &ContactRule) -> bool {
+        self.beyond.iter().any(|&(i, j)| {
+            let (Some(a), Some(b), Some(p), Some(q)) = (
+                mol.atoms.get(i as usize),
+                mol.atoms.get(j as usize),
+                local.get(i as usize),
+                local.get(j as usize),
+            ) else {
+                return false;
+            };
             rule.collides(a.radius, a.polar, b.radius, b.polar, p.distance_squared(*q))
-                .then(|| (c - p.distance(*q)).max(0.0))
         })
+    }
+
+    /// The pairs of atoms more than three bonds apart of `mol` (molecule
+    /// `body`) that collide under `rule`, as contacts (brute force over
+    /// those pairs, in their order).
+    pub(super) fn pressed_inside(
+        &self,
+        body: usize,
+        mol: &Molecule,
+        rule: &ContactRule,
+    ) -> Vec<Contact> {
+        self.beyond
+            .iter()
+            .filter_map(|&(i, j)| {
+                let (a, b) = (mol.atoms.get(i as usize)?, mol.atoms.get(j as usize)?);
+                let (p, q) = (mol.local.get(i as usize)?, mol.local.get(j as usize)?);
+                rule.collides(a.radius, a.polar, b.radius, b.polar, p.distance_squared(*q))
+                    .then(|| Contact {
+                        moving: (body, i as usize),
+                        other: (body, j as usize),
+                        distance: p.distance(*q),
+                        contact: rule.contact_distance(a.radius, a.polar, b.radius, b.polar),
+                    })
+            })
+            .collect()
     }
 }
 
@@ -384,10 +406,7 @@ impl Session {
         let (atoms, hydrogens) = f.shape(&torsions);
         f.torsions = torsions;
         f.generation += 1;
-        let pressed = f
-            .inside_depths(&self.bodies[b].molecule, &atoms, &self.settings.rule)
-            .next()
-            .is_some();
+        let pressed = f.collides_inside(&self.bodies[b].molecule, &atoms, &self.settings.rule);
         f.pressed = pressed;
         let groups = Arc::clone(&f.groups);
         let mol = &mut self.bodies[b].molecule;
@@ -587,17 +606,13 @@ impl Session {
                 out.changed = true;
                 self.refresh_contacts(out);
                 if self.settings.response == Response::Soft {
-                    // The pairs pressed into the band resist as they do a
-                    // rigid push (what a controller's rumble follows), and
-                    // so do the drug's own atoms pressed into each other.
-                    let mut depths: Vec<f32> = self.contacts.iter().map(Contact::depth).collect();
-                    if let Some(f) = self.flex.get(b).and_then(Option::as_ref)
-                        && f.pressed
-                    {
-                        let mol = &self.bodies[b].molecule;
-                        depths.extend(f.inside_depths(mol, &mol.local, &self.settings.rule));
-                    }
-                    let r = crate::collide::soft::resistance_of(depths, self.settings.soft_limit);
+                    // The pairs pressed into the band (the receptor's and
+                    // the drug's own) resist as they do a rigid push (what
+                    // a controller's rumble follows).
+                    let r = crate::collide::soft::resistance_of(
+                        self.contacts.iter().map(Contact::depth),
+                        self.settings.soft_limit,
+                    );
                     out.resistance = out.resistance.max(r);
                 }
                 return radians * t;
