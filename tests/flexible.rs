@@ -239,8 +239,10 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
                 pressed += 1;
                 total_pressed += 1;
             }
-            // Every such pair is a contact of the drug with itself, graded
-            // by its depth as the receptor's are.
+            // Every such pair that the torsions moved (one a rigid piece
+            // holds at its file distance was not pressed by a turn) is a
+            // contact of the drug with itself, graded by its depth as the
+            // receptor's are.
             let listed: Vec<(u32, u32)> = s
                 .contacts()
                 .iter()
@@ -250,8 +252,12 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
                     (i.min(j), i.max(j))
                 })
                 .collect();
+            let at_file = |i: u32, j: u32| {
+                (file_local[i as usize].as_dvec3() - file_local[j as usize].as_dvec3()).length()
+            };
             let mut want: Vec<(u32, u32)> = now_inside
                 .iter()
+                .filter(|o| (o.3 - at_file(o.1, o.2)).abs() > 1e-4)
                 .map(|o| (o.1.min(o.2), o.1.max(o.2)))
                 .collect();
             want.sort_unstable();

@@ -116,8 +116,8 @@ pub struct Settled {
     /// settle changed nothing).
     pub score: Option<f64>,
     /// Whether the drug collides with the receptor, or two of its own atoms
-    /// more than three bonds apart collide, under the contact rule after
-    /// settle.
+    /// more than three bonds apart that its torsions move relative to each
+    /// other collide, under the contact rule after settle.
     pub collides: bool,
 }
 
@@ -149,8 +149,9 @@ pub struct SteerReport {
     /// over the run, Å.
     pub deepest_overlap: f64,
     /// Deepest overlap between the drug's own atoms (more than three bonds
-    /// apart) beyond the default contact rule at the start: the seeded
-    /// turns of its bonds can put its halves into each other, Å.
+    /// apart, movable relative to each other) beyond the default contact
+    /// rule at the start: the seeded turns of its bonds can put its halves
+    /// into each other, Å.
     pub start_inner_overlap: f64,
     /// Deepest overlap between the drug's own atoms beyond the default
     /// contact rule over the run's frames, counting a pair only where it
@@ -228,12 +229,14 @@ fn clear(
     })
 }
 
-/// The pairs of `drug`'s atoms more than three bonds apart that collide
-/// under `rule`, with how far each presses beyond its contact distance
-/// (brute force: the judge).
+/// The pairs of `drug`'s atoms more than three bonds apart that its
+/// torsions can move relative to each other (Vina's intramolecular pairs)
+/// and that collide under `rule`, with how far each presses beyond its
+/// contact distance (brute force: the judge).
 fn inner_overlaps(drug: &Molecule, rule: &ContactRule) -> Vec<((usize, usize), f32)> {
     let chem = drug.chemistry();
-    crate::chem::torsions::pairs_beyond_three_bonds(&chem.adjacency)
+    chem.torsions
+        .vina_pairs(&chem.adjacency, &vec![Some(()); drug.len()])
         .into_iter()
         .filter_map(|(i, j)| {
             let (i, j) = (i as usize, j as usize);

@@ -139,6 +139,12 @@ pub(super) struct Flex {
     inner: Vec<Option<(ContactRule, Arc<Vec<InnerPair>>)>>,
     /// Atom pairs more than three bonds apart.
     beyond: Arc<Vec<(u32, u32)>>,
+    /// Those of them whose distance the torsions can change (Vina's
+    /// intramolecular pairs): the pairs a turn can press into each other.
+    /// Two atoms held apart by a rigid piece (the substituents at a
+    /// naphthalene's peri positions) may lie within the contact rule in
+    /// the file, as they always will: no turn pressed them.
+    movable: Arc<Vec<(u32, u32)>>,
     /// The collider's grouping of the loaded shape (it stays compact as
     /// the torsions turn).
     pub(super) groups: Arc<Vec<u32>>,
@@ -150,9 +156,10 @@ pub(super) struct Flex {
     pub(super) selected: Option<usize>,
     /// The torsions when loaded or last saved.
     pub(super) saved: Vec<f64>,
-    /// Whether two of the drug's own atoms (more than three bonds apart)
-    /// overlap under the default rule at the current conformation (pressed
-    /// into each other in the `soft` band).
+    /// Whether two of the drug's own atoms (more than three bonds apart,
+    /// movable relative to each other) overlap under the default rule at
+    /// the current conformation (pressed into each other in the `soft`
+    /// band).
     pub(super) pressed: bool,
 }
 
@@ -194,6 +201,7 @@ impl Flex {
             beyond: Arc::new(crate::chem::torsions::pairs_beyond_three_bonds(
                 &chem.adjacency,
             )),
+            movable: Arc::new(tree.vina_pairs(&chem.adjacency, &vec![Some(()); mol.len()])),
             groups: Arc::new(crate::collide::grouping::compact_order(&mol.local)),
             saved: torsions.clone(),
             torsions,
@@ -256,10 +264,11 @@ impl Flex {
         pairs
     }
 
-    /// Whether two atoms more than three bonds apart collide under `rule`
-    /// at `local` (brute force over those pairs).
+    /// Whether two atoms more than three bonds apart that the torsions can
+    /// move relative to each other collide under `rule` at `local` (brute
+    /// force over those pairs).
     fn collides_inside(&self, mol: &Molecule, local: &[Vec3], rule: &ContactRule) -> bool {
-        self.beyond.iter().any(|&(i, j)| {
+        self.movable.iter().any(|&(i, j)| {
             let (Some(a), Some(b), Some(p), Some(q)) = (
                 mol.atoms.get(i as usize),
                 mol.atoms.get(j as usize),
@@ -273,15 +282,16 @@ impl Flex {
     }
 
     /// The pairs of atoms more than three bonds apart of `mol` (molecule
-    /// `body`) that collide under `rule`, as contacts (brute force over
-    /// those pairs, in their order).
+    /// `body`) that the torsions can move relative to each other and that
+    /// collide under `rule`, as contacts (brute force over those pairs, in
+    /// their order).
     pub(super) fn pressed_inside(
         &self,
         body: usize,
         mol: &Molecule,
         rule: &ContactRule,
     ) -> Vec<Contact> {
-        self.beyond
+        self.movable
             .iter()
             .filter_map(|&(i, j)| {
                 let (a, b) = (mol.atoms.get(i as usize)?, mol.atoms.get(j as usize)?);
