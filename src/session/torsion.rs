@@ -975,4 +975,55 @@ mod tests {
         let end = s.bodies()[1].pose.translation;
         assert!(end.min_element() > 0.0, "it left by the way it came: {end}");
     }
+    /// 1,8-dibromo-2-ethylnaphthalene with its bromines 2.9 Å apart: the
+    /// rigid rings hold them within the contact rule, more than three
+    /// bonds apart, and no turn moves them. A turn of the ethyl group under
+    /// `soft` therefore lists no contact between them: only the pairs the
+    /// torsions press count.
+    #[test]
+    fn a_pair_the_rings_hold_within_the_rule_is_no_pressed_contact() {
+        use crate::model::molecule::test_carbon;
+        use crate::model::{LoadOptions, receptor_only, sdf::parse_sdf};
+        use crate::session::{Command, FrameInput, Settings};
+        const PERI: &str = "peri\n  test\n\n 14 15  0  0  0  0  0  0  0  0999 V2000\n    1.0017    0.1280    0.0987 C   0  0  0  0  0  0  0  0  0  0  0  0\n    0.4524   -0.4460   -1.1970 C   0  0  0  0  0  0  0  0  0  0  0  0\n    1.0097   -1.8344   -1.3984 C   0  0  0  0  0  0  0  0  0  0  0  0\n    0.2430   -2.9103   -0.9397 C   0  0  0  0  0  0  0  0  0  0  0  0\n    0.7159   -4.2043   -1.0684 C   0  0  0  0  0  0  0  0  0  0  0  0\n    1.9473   -4.4608   -1.6774 C   0  0  0  0  0  0  0  0  0  0  0  0\n    2.2773   -5.8012   -1.8956 C   0  0  0  0  0  0  0  0  0  0  0  0\n    3.3703   -6.1433   -2.6719 C   0  0  0  0  0  0  0  0  0  0  0  0\n    4.2784   -5.1622   -3.0280 C   0  0  0  0  0  0  0  0  0  0  0  0\n    4.0509   -3.8243   -2.6917 C   0  0  0  0  0  0  0  0  0  0  0  0\n    5.3209   -2.4865   -2.9704 Br  0  0  0  0  0  0  0  0  0  0  0  0\n    2.8076   -3.4002   -2.1191 C   0  0  0  0  0  0  0  0  0  0  0  0\n    2.2880   -2.0701   -1.9628 C   0  0  0  0  0  0  0  0  0  0  0  0\n    3.2124   -0.5227   -2.6412 Br  0  0  0  0  0  0  0  0  0  0  0  0\n  1  2  1  0\n  2  3  1  0\n  3  4  1  0\n  3 13  2  0\n  4  5  2  0\n  5  6  1  0\n  6  7  1  0\n  6 12  2  0\n  7  8  2  0\n  8  9  1  0\n  9 10  2  0\n 10 11  1  0\n 10 12  1  0\n 12 13  1  0\n 13 14  1  0\nM  END\n$$$$\n";
+        let loaded = parse_sdf(PERI, "peri.sdf", &LoadOptions::default()).expect("loads");
+        let drug = receptor_only(&loaded.structure).expect("molecule");
+        let bromines: Vec<usize> = (0..drug.len())
+            .filter(|&i| drug.atoms[i].element.as_str().eq_ignore_ascii_case("Br"))
+            .collect();
+        let [a, b] = bromines[..] else {
+            panic!("two bromines: {bromines:?}")
+        };
+        let rule = crate::collide::ContactRule::default();
+        let (x, y) = (&drug.atoms[a], &drug.atoms[b]);
+        let d2 = drug.local[a].distance_squared(drug.local[b]);
+        assert!(rule.collides(x.radius, x.polar, y.radius, y.polar, d2));
+        let far = Molecule::new("far", vec![test_carbon(1)], &[DVec3::splat(40.0)]);
+        let mut s = Session::new(vec![far, drug], Settings::default()).expect("session");
+        s.step(&FrameInput::docking(), 0.0);
+        s.step(
+            &FrameInput::with_commands(&[Command::SetResponse(Response::Soft)]),
+            0.0,
+        );
+        assert_eq!(s.rotatable_bonds(1).len(), 1);
+        s.step(
+            &FrameInput::with_commands(&[
+                Command::SelectTorsion(Some(0)),
+                Command::TurnTorsion { degrees: 40.0 },
+            ]),
+            0.0,
+        );
+        assert!(s.torsion_angles(1)[0] != 0.0, "the ethyl group turned");
+        let bromines = |c: &&Contact| {
+            c.moving.0 == 1 && c.other.0 == 1 && {
+                let pair = (c.moving.1.min(c.other.1), c.moving.1.max(c.other.1));
+                pair == (a.min(b), a.max(b))
+            }
+        };
+        assert!(
+            !s.contacts().iter().any(|c| bromines(&c)),
+            "{:?}",
+            s.contacts()
+        );
+    }
 }
