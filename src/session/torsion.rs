@@ -264,23 +264,6 @@ impl Flex {
         pairs
     }
 
-    /// Whether two atoms more than three bonds apart that the torsions can
-    /// move relative to each other collide under `rule` at `local` (brute
-    /// force over those pairs).
-    fn collides_inside(&self, mol: &Molecule, local: &[Vec3], rule: &ContactRule) -> bool {
-        self.movable.iter().any(|&(i, j)| {
-            let (Some(a), Some(b), Some(p), Some(q)) = (
-                mol.atoms.get(i as usize),
-                mol.atoms.get(j as usize),
-                local.get(i as usize),
-                local.get(j as usize),
-            ) else {
-                return false;
-            };
-            rule.collides(a.radius, a.polar, b.radius, b.polar, p.distance_squared(*q))
-        })
-    }
-
     /// The pairs of atoms more than three bonds apart of `mol` (molecule
     /// `body`) that the torsions can move relative to each other and that
     /// collide under `rule`, as contacts (brute force over those pairs, in
@@ -416,8 +399,6 @@ impl Session {
         let (atoms, hydrogens) = f.shape(&torsions);
         f.torsions = torsions;
         f.generation += 1;
-        let pressed = f.collides_inside(&self.bodies[b].molecule, &atoms, &self.settings.rule);
-        f.pressed = pressed;
         let groups = Arc::clone(&f.groups);
         let mol = &mut self.bodies[b].molecule;
         let moved = Reshaped {
@@ -427,6 +408,9 @@ impl Session {
         };
         mol.local = atoms;
         mol.hydrogens.local = hydrogens;
+        f.pressed = !f
+            .pressed_inside(b, &self.bodies[b].molecule, &self.settings.rule)
+            .is_empty();
         if moved.atoms.is_empty() && moved.hydrogens.is_empty() {
             return;
         }
