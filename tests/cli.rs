@@ -595,6 +595,35 @@ fn steer_reports_the_run_as_json_and_refuses_a_zero_direction() {
     assert!(stderr(&out).contains("direction"), "{}", stderr(&out));
 }
 
+/// `bump steer --json` of the drug `ligand` split from `file`, flexible,
+/// from `direction` with the start torsions of `seed`, through `response`.
+fn steer_flexible(
+    file: &str,
+    ligand: &str,
+    direction: &str,
+    seed: u64,
+    response: &str,
+    extra: &[&str],
+) -> serde_json::Value {
+    let seed = seed.to_string();
+    let mut args = vec![
+        "steer",
+        file,
+        "--ligand",
+        ligand,
+        "--direction",
+        direction,
+        "--response",
+        response,
+        "--flexible",
+        "--seed",
+        &seed,
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    json(&args)
+}
+
 #[test]
 fn steer_soft_goes_round_the_receptor_from_its_far_side() {
     let Some(dir) = common::shared_pdb() else {
@@ -607,22 +636,8 @@ fn steer_soft_goes_round_the_receptor_from_its_far_side() {
     // 1.5 Å and more past the contact rule (`pass`, below), beyond the
     // 1 Å soft limit. `soft` keeps to the limit and gets there round the
     // body.
-    let run = |response: &str| {
-        json(&[
-            "steer",
-            file,
-            "--ligand",
-            "TOP",
-            "--direction",
-            "-0.6846403743767794,0.71875,-0.12110324220772714",
-            "--response",
-            response,
-            "--flexible",
-            "--seed",
-            "5",
-            "--json",
-        ])
-    };
+    let direction = "-0.6846403743767794,0.71875,-0.12110324220772714";
+    let run = |response: &str| steer_flexible(file, "TOP", direction, 5, response, &[]);
     let straight = run("pass");
     assert!(
         straight["deepest_overlap"].as_f64().expect("deepest") > 1.5,
@@ -649,23 +664,8 @@ fn steer_soft_presses_the_drugs_own_atoms_no_deeper_than_the_limit() {
     // the 1 Å soft limit. `soft` lets them come apart, presses the drug's
     // own atoms no deeper than the limit on the way in, and settles free
     // of overlaps, within the drug too; `slide` presses nothing.
-    let run = |response: &str| {
-        json(&[
-            "steer",
-            file,
-            "--ligand",
-            "MTX",
-            "--direction",
-            "0.3797986477904189,0.78125,0.4953800809848628",
-            "--response",
-            response,
-            "--flexible",
-            "--settle",
-            "--seed",
-            "4",
-            "--json",
-        ])
-    };
+    let direction = "0.3797986477904189,0.78125,0.4953800809848628";
+    let run = |response: &str| steer_flexible(file, "MTX", direction, 4, response, &["--settle"]);
     let soft = run("soft");
     let overlap = |v: &serde_json::Value, k: &str| v[k].as_f64().expect("overlap");
     assert!(overlap(&soft, "start_inner_overlap") > 1.0, "{soft}");

@@ -221,19 +221,11 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
                 "{id} step {step} ({degrees:.1}° of bond {k}): {bad:?}"
             );
             // Pressed into the band within the drug (only `soft` may).
-            let inside = |o: &&Overlap| o.0 == "drug";
-            let now_inside: Vec<Overlap> = judge
-                .overlaps(&after_x, 0.0)
-                .iter()
-                .filter(inside)
-                .copied()
-                .collect();
-            let was_inside: Vec<Overlap> = judge
-                .overlaps(&before_x, 0.0)
-                .iter()
-                .filter(inside)
-                .copied()
-                .collect();
+            let inside = |x: &[DVec3]| -> Vec<Overlap> {
+                let all = judge.overlaps(x, 0.0);
+                all.into_iter().filter(|o| o.0 == "drug").collect()
+            };
+            let (now_inside, was_inside) = (inside(&after_x), inside(&before_x));
             if !worse(&now_inside, &was_inside).is_empty() {
                 assert_eq!(response, Response::Soft, "{id} step {step}: {now_inside:?}");
                 pressed += 1;
