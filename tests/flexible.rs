@@ -232,10 +232,9 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
                 total_pressed += 1;
             }
             // Every such pair that the torsions moved (one a rigid piece
-            // holds at its file distance was not pressed by a turn) is a
-            // contact of the drug with itself, graded by its depth as the
-            // receptor's are.
-            let listed: Vec<(u32, u32)> = s
+            // holds at its file distance was not pressed by a turn), and no
+            // other, is listed as a contact of the drug with itself.
+            let mut got: Vec<(u32, u32)> = s
                 .contacts()
                 .iter()
                 .filter(|c| c.moving.0 == 1 && c.other.0 == 1)
@@ -253,7 +252,6 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
                 .map(|o| (o.1.min(o.2), o.1.max(o.2)))
                 .collect();
             want.sort_unstable();
-            let mut got = listed.clone();
             got.sort_unstable();
             assert_eq!(got, want, "{id} step {step}: the drug's own pressed pairs");
             // Along the path: the moving side turns about the bond.
