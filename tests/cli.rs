@@ -653,29 +653,55 @@ fn steer_soft_goes_round_the_receptor_from_its_far_side() {
 }
 
 #[test]
-fn steer_soft_presses_the_drugs_own_atoms_no_deeper_than_the_limit() {
+fn steer_starts_with_the_drugs_own_atoms_clear_of_each_other() {
     let Some(dir) = common::shared_pdb() else {
         return;
     };
+    let turns = |v: &serde_json::Value| -> Vec<f64> {
+        v["start_torsions"]
+            .as_array()
+            .expect("start_torsions")
+            .iter()
+            .map(|t| t.as_f64().expect("turn"))
+            .collect()
+    };
+    let overlap = |v: &serde_json::Value, k: &str| v[k].as_f64().expect("overlap");
+    // The dockability report's fourth direction: the seeded draw of
+    // methotrexate's turns would press its halves 1.7 Å into each other.
+    // The start turns those bonds the other way instead; `soft` then
+    // presses nothing past the limit and settles free of overlaps, and
+    // `slide` presses nothing.
     let file = dir.join("4dfr.pdb");
     let file = file.to_str().expect("path");
-    // The dockability report's fourth direction: the start's seeded turns
-    // of methotrexate's bonds press its halves 1.7 Å into each other, past
-    // the 1 Å soft limit. `soft` lets them come apart, presses the drug's
-    // own atoms no deeper than the limit on the way in, and settles free
-    // of overlaps, within the drug too; `slide` presses nothing.
     let direction = "0.3797986477904189,0.78125,0.4953800809848628";
     let run = |response: &str| steer_flexible(file, "MTX", direction, 4, response, &["--settle"]);
     let soft = run("soft");
-    let overlap = |v: &serde_json::Value, k: &str| v[k].as_f64().expect("overlap");
-    assert!(overlap(&soft, "start_inner_overlap") > 1.0, "{soft}");
-    let inner = overlap(&soft, "deepest_inner_overlap");
-    assert!(inner > 0.0 && inner <= 1.0 + 1e-4, "{soft}");
+    let t = turns(&soft);
+    assert_eq!(
+        t.len(),
+        soft["torsions"].as_u64().expect("torsions") as usize
+    );
+    assert!(t.iter().all(|t| [-60.0, 0.0, 60.0].contains(t)), "{soft}");
+    assert_eq!(overlap(&soft, "start_inner_overlap"), 0.0, "{soft}");
+    assert!(
+        overlap(&soft, "deepest_inner_overlap") <= 1.0 + 1e-4,
+        "{soft}"
+    );
     assert!(overlap(&soft, "deepest_overlap") <= 1.0 + 1e-4, "{soft}");
     assert_eq!(soft["settled"]["collides"], false, "{soft}");
     let slide = run("slide");
     assert_eq!(overlap(&slide, "deepest_inner_overlap"), 0.0, "{slide}");
     assert_eq!(overlap(&slide, "deepest_overlap"), 0.0, "{slide}");
+    // One of trimethoprim's methoxy groups, turned 60° either way, presses
+    // its methyl into the next methoxy's oxygen: that bond starts at its
+    // file angle, the others 60° off.
+    let file = dir.join("6xg5_tmp_prepared.pdb");
+    let file = file.to_str().expect("path");
+    let top = steer_flexible(file, "TOP", direction, 1, "slide", &[]);
+    let t = turns(&top);
+    assert_eq!(t.iter().filter(|t| **t == 0.0).count(), 1, "{top}");
+    assert_eq!(t.iter().filter(|t| t.abs() == 60.0).count(), t.len() - 1);
+    assert_eq!(overlap(&top, "start_inner_overlap"), 0.0, "{top}");
 }
 
 #[test]

@@ -493,7 +493,8 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
         "The controller of `bump steer` (issue 44): from the first pose along a direction at \
          least 8 Å from the file pose's centre where the drug, turned 30°, is clear of the \
          receptor by 3 Å (flexible: each rotatable bond first turned 60° either way, seeded by \
-         the direction's number), each frame proposes at most 0.3 Å and 3° towards the file \
+         the direction's number, or the other way, or not at all, where that would press the \
+         drug's own atoms into each other), each frame proposes at most 0.3 Å and 3° towards the file \
          pose (flexible: and 5° per bond towards its file angle) through the response, for at \
          most 3000 frames; *reached* is a heavy-atom RMSD ≤ 2 Å to the file pose at some \
          frame (the least over the swaps of atoms the drug's bonds cannot tell apart, as \
@@ -501,8 +502,8 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
          default contact rule (overlap 0.6 Å, H-bond allowance 0.4 Å), soft limit 1 Å. \
          *Frames* is the median frame at which the runs that got there got there; *deepest* \
          the deepest overlap beyond the contact rule over every run, with the receptor or \
-         within the drug (where a turn pressed its own atoms deeper than the start's seeded \
-         turns had them); *least deepest* the least \
+         within the drug (where a turn pressed its own atoms deeper than the file shape has \
+         them); *least deepest* the least \
          of the runs' deepest overlaps (under `pass`, collision off, how far the best straight \
          path from outside presses into the receptor: more than the soft limit means no \
          response that keeps to it can follow a straight path in); *straight within the \

@@ -562,6 +562,24 @@ mod tests {
         );
     }
 
+    #[test]
+    fn a_piece_no_bond_joins_moves_with_the_pose_only() {
+        // Hexane and, 6 Å off, a zinc no bond joins to it: its own root.
+        let mut atoms: Vec<(&str, [f64; 3])> = (0..6)
+            .map(|i| ("C", [i as f64 * 1.26, (i % 2) as f64 * 0.89, 0.0]))
+            .collect();
+        atoms.push(("Zn", [3.0, 6.0, 0.0]));
+        let mol = ligand(&atoms);
+        let c = mol.chemistry();
+        assert_eq!(c.torsions.len(), 3);
+        let all = vec![Some(()); 7];
+        let vina = c.torsions.vina_pairs(&c.adjacency, &all);
+        assert!(vina.contains(&(0, 6)), "{vina:?}");
+        // No turn changes the zinc's distance to any carbon.
+        let movable = c.torsions.movable_pairs(&c.adjacency);
+        assert_eq!(movable, vec![(0, 4), (0, 5), (1, 5)]);
+    }
+
     const V2000_HEAD: &str = "lig\n  test\n\n";
 
     fn sdf(atoms: &[(&str, [f64; 3])], bonds: &[(i64, i64, i64)], extra: &str) -> String {

@@ -460,6 +460,28 @@ impl TorsionTree {
         }
         out
     }
+
+    /// The pairs of heavy atoms more than three bonds apart whose distance
+    /// the torsions change: Vina's pairs ([`Self::vina_pairs`]) within one
+    /// tree. Pieces of the molecule that no bond joins (a metal among its
+    /// ligand atoms, as heme's iron) are roots of their own and move only
+    /// with the pose, all together, so no turn brings a pair between two
+    /// of them closer. `(i, j)` with `i < j`, sorted.
+    pub fn movable_pairs(&self, adj: &Adjacency) -> Vec<(u32, u32)> {
+        let root_of: Vec<u32> = (0..self.nodes.len())
+            .map(|mut k| {
+                while let Some(p) = self.nodes[k].parent {
+                    k = p as usize;
+                }
+                k as u32
+            })
+            .collect();
+        let root = |i: u32| root_of[self.node_of_atom[i as usize] as usize];
+        self.vina_pairs(adj, &vec![Some(()); self.node_of_atom.len()])
+            .into_iter()
+            .filter(|&(i, j)| root(i) == root(j))
+            .collect()
+    }
 }
 
 /// For each atom, the atoms within three bonds of it (itself excluded),

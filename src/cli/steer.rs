@@ -84,7 +84,11 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
         r.start_distance,
         r.response.name(),
         if r.flexible {
-            format!(", flexible ({} rotatable bonds)", r.torsions)
+            format!(
+                ", flexible ({} rotatable bonds, {} of them turned 60° at the start)",
+                r.torsions,
+                r.start_torsions.iter().filter(|t| **t != 0.0).count()
+            )
         } else {
             String::new()
         }

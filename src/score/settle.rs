@@ -182,10 +182,9 @@ impl<'a> Contacts<'a> {
     /// more than three bonds apart that the torsion tree lets move.
     pub fn new(collider: &'a Collider, rule: ContactRule, drug: &Molecule, lig: &Ligand) -> Self {
         let chem = drug.chemistry();
-        let all: Vec<Option<()>> = vec![Some(()); drug.len()];
         let inner = chem
             .torsions
-            .vina_pairs(&chem.adjacency, &all)
+            .movable_pairs(&chem.adjacency)
             .into_iter()
             .filter(|&(a, b)| (a as usize) < lig.len() && (b as usize) < lig.len())
             .map(|(a, b)| {

@@ -6,8 +6,10 @@
 //! off the file pose's centre) where the drug, turned 30° about a fixed
 //! axis, collides with nothing and every drug atom lies at least 3 Å from
 //! every receptor atom. With `flexible`, each rotatable bond is first
-//! turned 60° from its file angle, either way as a seeded draw says, and
-//! the start is searched with that shape. Each frame then proposes at most
+//! turned 60° from its file angle, either way as a seeded draw says (the
+//! other way, or not at all, where that would press the drug's own atoms
+//! into each other: [`SteerReport::start_torsions`]), and the start is
+//! searched with that shape. Each frame then proposes at most
 //! 0.3 Å and 3° towards the file pose (a [`Command::MoveBy`] through the
 //! session, the same code as the window), and, with `flexible`, at most 5°
 //! per bond towards its file angle (a [`Command::TurnTorsion`] of each
@@ -132,6 +134,10 @@ pub struct SteerReport {
     pub flexible: bool,
     /// Rotatable bonds turned (0 for a rigid run).
     pub torsions: usize,
+    /// The start's turn of each rotatable bond from its file angle,
+    /// degrees: ±60 as the seeded draw says or the other way, 0 where
+    /// neither way leaves the drug clear of itself.
+    pub start_torsions: Vec<f64>,
     /// Distance of the start from the file pose's centre, Å.
     pub start_distance: f64,
     /// Heavy-atom RMSD ≤ 2 Å at some frame (every RMSD here is the least
@@ -150,8 +156,8 @@ pub struct SteerReport {
     pub deepest_overlap: f64,
     /// Deepest overlap between the drug's own atoms (more than three bonds
     /// apart, movable relative to each other) beyond the default contact
-    /// rule at the start: the seeded turns of its bonds can put its halves
-    /// into each other, Å.
+    /// rule at the start, Å: 0 unless the file shape has such a pair (the
+    /// start's turns add none).
     pub start_inner_overlap: f64,
     /// Deepest overlap between the drug's own atoms beyond the default
     /// contact rule over the run's frames, counting a pair only where it
@@ -230,13 +236,13 @@ fn clear(
 }
 
 /// The pairs of `drug`'s atoms more than three bonds apart that its
-/// torsions can move relative to each other (Vina's intramolecular pairs)
-/// and that collide under `rule`, with how far each presses beyond its
+/// torsions can move relative to each other
+/// ([`crate::chem::TorsionTree::movable_pairs`]) and that collide under `rule`, with how far each presses beyond its
 /// contact distance (brute force: the judge).
 fn inner_overlaps(drug: &Molecule, rule: &ContactRule) -> Vec<((usize, usize), f32)> {
     let chem = drug.chemistry();
     chem.torsions
-        .vina_pairs(&chem.adjacency, &vec![Some(()); drug.len()])
+        .movable_pairs(&chem.adjacency)
         .into_iter()
         .filter_map(|(i, j)| {
             let (i, j) = (i as usize, j as usize);
@@ -281,16 +287,53 @@ pub fn start_pose(
     })
 }
 
-/// The seeded start torsions of `n` rotatable bonds: each
-/// ±[`START_TORSION`]°, radians.
-pub fn start_torsions(n: usize, seed: u64) -> Vec<f64> {
+/// The seeded draw of the start's turns of `n` rotatable bonds: which way
+/// each turns, +1 or −1.
+pub fn start_signs(n: usize, seed: u64) -> Vec<f64> {
     let mut rng = Rng(seed);
     (0..n)
-        .map(|_| {
-            let sign = if rng.next_u64() >> 63 == 0 { 1.0 } else { -1.0 };
-            sign * START_TORSION.to_radians()
-        })
+        .map(|_| if rng.next_u64() >> 63 == 0 { 1.0 } else { -1.0 })
         .collect()
+}
+
+/// The start's turns of the drug's rotatable bonds from their file
+/// angles, degrees, set on the session: bond by bond, in order,
+/// [`START_TORSION`]° the way the seeded draw ([`start_signs`]) says,
+/// else the other way, else none, the first that leaves the drug colliding
+/// with itself nowhere its file shape does not (a start collides with
+/// nothing). So every bond is turned where either way is clear, and the
+/// start never puts the drug's halves into each other.
+fn start_shape(
+    session: &mut Session,
+    seed: u64,
+    rule: &ContactRule,
+) -> Result<Vec<f64>, TorsionError> {
+    // Within the f32 noise of recomputing the untouched atoms' places.
+    const SAME: f32 = 1e-4;
+    let at_file = inner_overlaps(&session.bodies()[1].molecule, rule);
+    let no_worse = |now: &[((usize, usize), f32)]| {
+        now.iter()
+            .all(|(p, d)| at_file.iter().any(|(q, e)| q == p && *d <= e + SAME))
+    };
+    let n = session.torsion_angles(1).len();
+    let mut turns = vec![0.0; n];
+    let radians = |turns: &[f64]| turns.iter().map(|t| t.to_radians()).collect::<Vec<_>>();
+    for (k, sign) in start_signs(n, seed).into_iter().enumerate() {
+        let mut clear = false;
+        for candidate in [sign, -sign] {
+            turns[k] = candidate * START_TORSION;
+            session.set_torsions(1, &radians(&turns))?;
+            if no_worse(&inner_overlaps(&session.bodies()[1].molecule, rule)) {
+                clear = true;
+                break;
+            }
+        }
+        if !clear {
+            turns[k] = 0.0;
+        }
+    }
+    session.set_torsions(1, &radians(&turns))?;
+    Ok(turns)
 }
 
 /// The frame's proposal towards the file pose and torsions: the commands
@@ -372,9 +415,11 @@ pub fn steer(
     } else {
         0
     };
-    if torsions > 0 {
-        session.set_torsions(1, &start_torsions(torsions, opts.seed))?;
-    }
+    let start_turns = if torsions > 0 {
+        start_shape(&mut session, opts.seed, &rule)?
+    } else {
+        Vec::new()
+    };
     // Sorted by pair for the lookups of each frame.
     let mut start_inner = inner_overlaps(&session.bodies()[1].molecule, &rule);
     start_inner.sort_by_key(|a| a.0);
@@ -398,6 +443,7 @@ pub fn steer(
         response: opts.response,
         flexible: opts.flexible,
         torsions,
+        start_torsions: start_turns,
         start_distance,
         reached: false,
         reached_frame: None,
@@ -541,14 +587,11 @@ mod tests {
     }
 
     #[test]
-    fn start_torsions_are_sixty_degrees_either_way_and_seeded() {
-        let a = start_torsions(40, 7);
-        assert_eq!(a, start_torsions(40, 7));
-        assert_ne!(a, start_torsions(40, 8));
-        assert!(
-            a.iter()
-                .all(|t| (t.abs() - 60f64.to_radians()).abs() < 1e-15)
-        );
+    fn start_signs_are_either_way_and_seeded() {
+        let a = start_signs(40, 7);
+        assert_eq!(a, start_signs(40, 7));
+        assert_ne!(a, start_signs(40, 8));
+        assert!(a.iter().all(|t| t.abs() == 1.0));
         assert!(a.iter().any(|t| *t > 0.0) && a.iter().any(|t| *t < 0.0));
     }
 

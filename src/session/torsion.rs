@@ -139,8 +139,9 @@ pub(super) struct Flex {
     inner: Vec<Option<(ContactRule, Arc<Vec<InnerPair>>)>>,
     /// Atom pairs more than three bonds apart.
     beyond: Arc<Vec<(u32, u32)>>,
-    /// Those of them whose distance the torsions can change (Vina's
-    /// intramolecular pairs): the pairs a turn can press into each other.
+    /// Those of them whose distance the torsions can change
+    /// ([`crate::chem::TorsionTree::movable_pairs`]): the pairs a turn can
+    /// press into each other.
     /// Two atoms held apart by a rigid piece (the substituents at a
     /// naphthalene's peri positions) may lie within the contact rule in
     /// the file, as they always will: no turn pressed them.
@@ -201,7 +202,7 @@ impl Flex {
             beyond: Arc::new(crate::chem::torsions::pairs_beyond_three_bonds(
                 &chem.adjacency,
             )),
-            movable: Arc::new(tree.vina_pairs(&chem.adjacency, &vec![Some(()); mol.len()])),
+            movable: Arc::new(tree.movable_pairs(&chem.adjacency)),
             groups: Arc::new(crate::collide::grouping::compact_order(&mol.local)),
             saved: torsions.clone(),
             torsions,
