@@ -388,8 +388,15 @@ impl Session {
         let b = self.selected;
         let pose = self.bodies[b].pose;
         let tol = self.settings.touch.tolerance as f32;
+        // The drug's own pressed pairs, with or without a receptor.
+        let inner = match self.flex.get(b).and_then(Option::as_ref) {
+            Some(f) if f.pressed => {
+                f.pressed_inside(b, &self.bodies[b].molecule, &self.settings.rule)
+            }
+            _ => Vec::new(),
+        };
         let Some(env) = self.environment() else {
-            self.set_contacts(Vec::new(), out);
+            self.set_contacts(inner, out);
             return;
         };
         let rel = env.frame.inverse().compose(&pose);
@@ -397,11 +404,7 @@ impl Session {
         let pairs = crate::collide::pairs_within(&env.collider, &env.drug, &rel, tol);
         out.collision_timed(t0);
         let mut contacts = env.contacts(b, &pairs);
-        if let Some(f) = self.flex.get(b).and_then(Option::as_ref)
-            && f.pressed
-        {
-            contacts.extend(f.pressed_inside(b, &self.bodies[b].molecule, &self.settings.rule));
-        }
+        contacts.extend(inner);
         self.set_contacts(contacts, out);
     }
 

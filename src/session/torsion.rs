@@ -965,6 +965,62 @@ mod tests {
     /// bonds apart, and no turn moves them. A turn of the ethyl group under
     /// `soft` therefore lists no contact between them: only the pairs the
     /// torsions press count.
+    /// A drug alone (no receptor) turned under `soft` into syn-pentane,
+    /// whose ends press into each other: the pair is listed as a contact
+    /// of the drug with itself, pressed no deeper than the limit.
+    #[test]
+    fn a_drug_alone_lists_its_own_pressed_pairs() {
+        use crate::model::{LoadOptions, receptor_only, sdf::parse_sdf};
+        use crate::session::{Command, FrameInput, Settings};
+        // All-trans pentane, a zigzag of 1.54 Å bonds.
+        let mut sdf = String::from("pentane\n  test\n\n  5  4  0  0  0  0  0  0  0  0999 V2000\n");
+        for i in 0..5 {
+            let (x, y) = (f64::from(i) * 1.26, f64::from(i % 2) * 0.89);
+            sdf += &format!(
+                "{x:>10.4}{y:>10.4}{:>10.4} C   0  0  0  0  0  0  0  0  0  0  0  0\n",
+                0.0
+            );
+        }
+        for i in 1..5 {
+            sdf += &format!("{i:>3}{:>3}  1  0\n", i + 1);
+        }
+        sdf += "M  END\n$$$$\n";
+        let loaded = parse_sdf(&sdf, "pentane.sdf", &LoadOptions::default()).expect("loads");
+        let drug = receptor_only(&loaded.structure).expect("molecule");
+        let mut s = Session::new(vec![drug], Settings::default()).expect("session");
+        s.step(&FrameInput::docking(), 0.0);
+        s.step(
+            &FrameInput::with_commands(&[Command::SetResponse(Response::Soft)]),
+            0.0,
+        );
+        assert_eq!(s.rotatable_bonds(0).len(), 2);
+        let ends = |s: &Session| {
+            s.contacts()
+                .iter()
+                .filter(|c| {
+                    c.moving.0 == 0
+                        && c.other.0 == 0
+                        && (c.moving.1.min(c.other.1), c.moving.1.max(c.other.1)) == (0, 4)
+                })
+                .map(Contact::depth)
+                .collect::<Vec<_>>()
+        };
+        assert!(ends(&s).is_empty());
+        // Gauche+ then gauche−: the ends come within 2.6 Å.
+        for (k, degrees) in [(0, 120.0), (1, -120.0)] {
+            s.step(
+                &FrameInput::with_commands(&[
+                    Command::SelectTorsion(Some(k)),
+                    Command::TurnTorsion { degrees },
+                ]),
+                0.0,
+            );
+        }
+        let depths = ends(&s);
+        assert_eq!(depths.len(), 1, "{:?}", s.contacts());
+        assert!(depths[0] > 0.0 && depths[0] <= 1.0 + 1e-4, "{depths:?}");
+    }
+
     #[test]
     fn a_pair_the_rings_hold_within_the_rule_is_no_pressed_contact() {
         use crate::model::molecule::test_carbon;
