@@ -18,7 +18,7 @@ use std::path::Path;
 use bump::chem::torsions::pairs_beyond_three_bonds;
 use bump::collide::torsion::Turn;
 use bump::collide::{ContactRule, Response};
-use bump::model::Molecule;
+use bump::model::{LigandSpec, LoadOptions, Molecule, split_complex};
 use bump::motion::Pose;
 use bump::rng::Rng;
 use bump::session::log::{frame_line, to_text};
@@ -26,14 +26,38 @@ use bump::session::{Command, FrameInput, LogFrame, Session, SessionLog, Settings
 use glam::{DVec3, Vec3};
 use score_support::{COMPLEXES, load_complex, shared_pdb};
 
-/// The shared ligands (the drug-like ones; NAP is a cofactor but flexible too).
+/// The shared ligands of the Vina reference (the drug-like ones; NAP is a
+/// cofactor but flexible too).
 const LIGANDS: &[&str] = &[
     "6xg5_TOP", "3ptb_BEN", "1s3v_TQD", "4dfr_MTX", "1u72_MTX", "3nzd_D2Q", "1hvr_XK2", "1rx1_NAP",
 ];
 
+/// The shared files' other ligands and cofactors: id, file and residue
+/// (the receptor is the rest of the file). Heme's iron is bonded to none
+/// of its atoms; 3nzd's NADPH has two atoms 2.3 Å apart in the file.
+const MORE: &[(&str, &str, &str)] = &[
+    ("1bdg_GLC", "1bdg_stripped.pdb", "GLC"),
+    ("4kya_1UG", "4kya.pdb.gz", "1UG:A"),
+    ("1dt6_HEM", "1dt6.pdb", "HEM"),
+    ("1u72_NDP", "1u72.pdb", "NDP:A"),
+    ("3nzd_NDP", "3nzd.cif", "NDP:A"),
+];
+
+/// Receptor and drug of `id`, from [`LIGANDS`] or [`MORE`].
+fn load(dir: &Path, id: &str) -> (Molecule, Molecule) {
+    let Some(&(_, file, residue)) = MORE.iter().find(|m| m.0 == id) else {
+        assert!(COMPLEXES.iter().any(|c| c.0 == id), "{id}");
+        return load_complex(dir, id);
+    };
+    let s = bump::model::load(&dir.join(file), &LoadOptions::default())
+        .unwrap()
+        .structure;
+    split_complex(&s, &LigandSpec::parse(residue).unwrap()).unwrap()
+}
+
 /// A session of receptor and drug at the crystal pose, docking, with `response`.
 fn docking(dir: &Path, id: &str, response: Response) -> Session {
-    let (receptor, drug) = load_complex(dir, id);
+    let (receptor, drug) = load(dir, id);
     let mut s = Session::new(vec![receptor, drug], Settings::default()).unwrap();
     s.step(&FrameInput::docking(), 0.0);
     s.step(
@@ -153,8 +177,7 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
     };
     let mut report = Vec::new();
     let mut total_pressed = 0;
-    for &id in LIGANDS {
-        assert!(COMPLEXES.iter().any(|c| c.0 == id));
+    for id in LIGANDS.iter().copied().chain(MORE.iter().map(|m| m.0)) {
         let mut s = docking(&dir, id, response);
         let judge = Judge::new(&s);
         let soft = if response == Response::Soft {
@@ -168,6 +191,15 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
             continue;
         }
         let file_local = s.bodies()[1].molecule.local.clone();
+        // Brute force: a turn changes the distance of two atoms when it
+        // moves one and not the other and neither lies on its axis.
+        let bonds = s.rotatable_bonds(1).to_vec();
+        let movable = |i: u32, j: u32| {
+            bonds.iter().any(|b| {
+                let moves = |a: u32| b.moving.binary_search(&a).is_ok();
+                moves(i) != moves(j) && !b.atoms.contains(&i) && !b.atoms.contains(&j)
+            })
+        };
         let file_h = s.bodies()[1].molecule.hydrogens.local.clone();
         let loaded = s.bodies()[1].pose;
         let mut rng = Rng(seed);
@@ -231,8 +263,8 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
                 pressed += 1;
                 total_pressed += 1;
             }
-            // Every such pair that the torsions moved (one a rigid piece
-            // holds at its file distance was not pressed by a turn), and no
+            // Every such pair whose distance some turn changes (not two
+            // atoms a rigid piece holds, as the file has them), and no
             // other, is listed as a contact of the drug with itself.
             let mut got: Vec<(u32, u32)> = s
                 .contacts()
@@ -243,12 +275,9 @@ fn random_turns(response: Response, steps: usize, seed: u64) {
                     (i.min(j), i.max(j))
                 })
                 .collect();
-            let at_file = |i: u32, j: u32| {
-                (file_local[i as usize].as_dvec3() - file_local[j as usize].as_dvec3()).length()
-            };
             let mut want: Vec<(u32, u32)> = now_inside
                 .iter()
-                .filter(|o| (o.3 - at_file(o.1, o.2)).abs() > 1e-4)
+                .filter(|o| movable(o.1, o.2))
                 .map(|o| (o.1.min(o.2), o.1.max(o.2)))
                 .collect();
             want.sort_unstable();

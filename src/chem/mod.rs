@@ -563,7 +563,7 @@ mod tests {
     }
 
     #[test]
-    fn a_piece_no_bond_joins_moves_with_the_pose_only() {
+    fn a_piece_no_bond_joins_moves_with_the_root() {
         // Hexane and, 6 Å off, a zinc no bond joins to it: its own root.
         let mut atoms: Vec<(&str, [f64; 3])> = (0..6)
             .map(|i| ("C", [i as f64 * 1.26, (i % 2) as f64 * 0.89, 0.0]))
@@ -572,12 +572,22 @@ mod tests {
         let mol = ligand(&atoms);
         let c = mol.chemistry();
         assert_eq!(c.torsions.len(), 3);
+        let movable = c.torsions.movable_pairs(&c.adjacency);
+        for pair in [(0, 4), (0, 5), (1, 5)] {
+            assert!(movable.contains(&pair), "{movable:?}");
+        }
+        // No turn changes the zinc's distance to the root's atoms, as both
+        // move only with the pose; Vina's pairs count them.
         let all = vec![Some(()); 7];
         let vina = c.torsions.vina_pairs(&c.adjacency, &all);
-        assert!(vina.contains(&(0, 6)), "{vina:?}");
-        // No turn changes the zinc's distance to any carbon.
-        let movable = c.torsions.movable_pairs(&c.adjacency);
-        assert_eq!(movable, vec![(0, 4), (0, 5), (1, 5)]);
+        let root = &c.torsions.nodes[0].atoms;
+        assert!(!root.contains(&6));
+        for &r in root {
+            assert!(vina.contains(&(r, 6)), "{vina:?}");
+            assert!(!movable.contains(&(r, 6)), "{movable:?}");
+        }
+        // The ends swing round the turned bonds, and past the zinc.
+        assert!(movable.contains(&(0, 6)) && movable.contains(&(5, 6)));
     }
 
     const V2000_HEAD: &str = "lig\n  test\n\n";

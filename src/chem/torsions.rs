@@ -424,17 +424,49 @@ impl TorsionTree {
     /// `(i, j)` with `i < j`, sorted. Quadratic in the atom count: for
     /// drugs.
     pub fn vina_pairs<T>(&self, adj: &Adjacency, types: &[Option<T>]) -> Vec<(u32, u32)> {
+        self.pairs_apart(adj, types, |node| node)
+    }
+
+    /// The pairs of heavy atoms more than three bonds apart whose distance
+    /// the torsions change: Vina's pairs ([`Self::vina_pairs`]) with every
+    /// root taken as one rigid piece. Pieces of the molecule that no bond
+    /// joins (a metal among its ligand atoms, as heme's iron) are roots of
+    /// their own, and the roots move only with the pose, all together: no
+    /// turn changes the distance between two of their atoms, while one of
+    /// a root and one of a turned branch move relative to each other.
+    /// `(i, j)` with `i < j`, sorted.
+    pub fn movable_pairs(&self, adj: &Adjacency) -> Vec<(u32, u32)> {
+        // Roots are 0 and the nodes without a parent: all become node 0.
+        let root = |node: u32| {
+            if self.nodes[node as usize].parent.is_none() {
+                0
+            } else {
+                node
+            }
+        };
+        let all = vec![Some(()); self.node_of_atom.len()];
+        self.pairs_apart(adj, &all, root)
+    }
+
+    /// The pairs more than three bonds apart, each with a type, that share
+    /// no fixed set (see [`Self::vina_pairs`]), nodes named by `node`.
+    fn pairs_apart<T>(
+        &self,
+        adj: &Adjacency,
+        types: &[Option<T>],
+        node: impl Fn(u32) -> u32,
+    ) -> Vec<(u32, u32)> {
         let n = self.node_of_atom.len();
         // Each atom's fixed sets: its node, and for each rotatable bond at
         // it the node across the bond.
         let mut across: Vec<Vec<u32>> = vec![Vec::new(); n];
         for b in &self.bonds {
-            across[b.parent_atom as usize].push(b.child_node);
-            across[b.child_atom as usize].push(b.parent_node);
+            across[b.parent_atom as usize].push(node(b.child_node));
+            across[b.child_atom as usize].push(node(b.parent_node));
         }
         let sets: Vec<Vec<u32>> = (0..n)
             .map(|i| {
-                let mut s = vec![self.node_of_atom[i]];
+                let mut s = vec![node(self.node_of_atom[i])];
                 s.extend(&across[i]);
                 s
             })
@@ -459,28 +491,6 @@ impl TorsionTree {
             }
         }
         out
-    }
-
-    /// The pairs of heavy atoms more than three bonds apart whose distance
-    /// the torsions change: Vina's pairs ([`Self::vina_pairs`]) within one
-    /// tree. Pieces of the molecule that no bond joins (a metal among its
-    /// ligand atoms, as heme's iron) are roots of their own and move only
-    /// with the pose, all together, so no turn brings a pair between two
-    /// of them closer. `(i, j)` with `i < j`, sorted.
-    pub fn movable_pairs(&self, adj: &Adjacency) -> Vec<(u32, u32)> {
-        let root_of: Vec<u32> = (0..self.nodes.len())
-            .map(|mut k| {
-                while let Some(p) = self.nodes[k].parent {
-                    k = p as usize;
-                }
-                k as u32
-            })
-            .collect();
-        let root = |i: u32| root_of[self.node_of_atom[i as usize] as usize];
-        self.vina_pairs(adj, &vec![Some(()); self.node_of_atom.len()])
-            .into_iter()
-            .filter(|&(i, j)| root(i) == root(j))
-            .collect()
     }
 }
 
