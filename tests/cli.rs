@@ -668,7 +668,7 @@ fn steer_starts_with_the_drugs_own_atoms_clear_of_each_other() {
     let overlap = |v: &serde_json::Value, k: &str| v[k].as_f64().expect("overlap");
     // The dockability report's fourth direction: the seeded draw of
     // methotrexate's turns would press its halves 1.7 Å into each other.
-    // The start turns those bonds the other way instead; `soft` then
+    // The start turns those bonds the other way, or not at all; `soft` then
     // presses nothing past the limit and settles free of overlaps, and
     // `slide` presses nothing.
     let file = dir.join("4dfr.pdb");

@@ -494,9 +494,9 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
          least 8 Å from the file pose's centre where the drug, turned 30°, is clear of the \
          receptor by 3 Å (flexible: each rotatable bond first turned 60° either way, seeded by \
          the direction's number, or the other way, or not at all, where that would press the \
-         drug's own atoms into each other), each frame proposes at most 0.3 Å and 3° towards the file \
-         pose (flexible: and 5° per bond towards its file angle) through the response, for at \
-         most 3000 frames; *reached* is a heavy-atom RMSD ≤ 2 Å to the file pose at some \
+         drug's own atoms into each other), each frame proposes at most 0.3 Å and 3° towards \
+         the file pose (flexible: and 5° per bond towards its file angle) through the response, \
+         for at most 3000 frames; *reached* is a heavy-atom RMSD ≤ 2 Å to the file pose at some \
          frame (the least over the swaps of atoms the drug's bonds cannot tell apart, as \
          docking benchmarks count it). {n} Fibonacci directions per complex, Bondi radii, hydrogens dropped, the \
          default contact rule (overlap 0.6 Å, H-bond allowance 0.4 Å), soft limit 1 Å. \

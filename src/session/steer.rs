@@ -237,8 +237,9 @@ fn clear(
 
 /// The pairs of `drug`'s atoms more than three bonds apart that its
 /// torsions can move relative to each other
-/// ([`crate::chem::TorsionTree::movable_pairs`]) and that collide under `rule`, with how far each presses beyond its
-/// contact distance (brute force: the judge).
+/// ([`crate::chem::TorsionTree::movable_pairs`]) and that collide under
+/// `rule`, with how far each presses beyond its contact distance (brute
+/// force: the judge).
 fn inner_overlaps(drug: &Molecule, rule: &ContactRule) -> Vec<((usize, usize), f32)> {
     let chem = drug.chemistry();
     chem.torsions

@@ -960,11 +960,7 @@ mod tests {
         let end = s.bodies()[1].pose.translation;
         assert!(end.min_element() > 0.0, "it left by the way it came: {end}");
     }
-    /// 1,8-dibromo-2-ethylnaphthalene with its bromines 2.9 Å apart: the
-    /// rigid rings hold them within the contact rule, more than three
-    /// bonds apart, and no turn moves them. A turn of the ethyl group under
-    /// `soft` therefore lists no contact between them: only the pairs the
-    /// torsions press count.
+
     /// A drug alone (no receptor) turned under `soft` into syn-pentane,
     /// whose ends press into each other: the pair is listed as a contact
     /// of the drug with itself, pressed no deeper than the limit.
@@ -1006,7 +1002,8 @@ mod tests {
                 .collect::<Vec<_>>()
         };
         assert!(ends(&s).is_empty());
-        // Gauche+ then gauche−: the ends come within 2.6 Å.
+        // Gauche+ then gauche−: the ends come closer than their contact
+        // distance.
         for (k, degrees) in [(0, 120.0), (1, -120.0)] {
             s.step(
                 &FrameInput::with_commands(&[
@@ -1021,6 +1018,11 @@ mod tests {
         assert!(depths[0] > 0.0 && depths[0] <= 1.0 + 1e-4, "{depths:?}");
     }
 
+    /// 1,8-dibromo-2-ethylnaphthalene with its bromines 2.9 Å apart: the
+    /// rigid rings hold them within the contact rule, more than three
+    /// bonds apart, and no turn moves them. A turn of the ethyl group under
+    /// `soft` therefore lists no contact between them: only the pairs the
+    /// torsions press count.
     #[test]
     fn a_pair_the_rings_hold_within_the_rule_is_no_pressed_contact() {
         use crate::model::molecule::test_carbon;
