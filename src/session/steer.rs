@@ -235,18 +235,36 @@ fn clear(
     })
 }
 
-/// The pairs of `drug`'s atoms more than three bonds apart that its
-/// torsions can move relative to each other
-/// ([`crate::chem::TorsionTree::movable_pairs`]) and that collide under
-/// `rule`, with how far each presses beyond its contact distance (brute
-/// force: the judge).
-fn inner_overlaps(drug: &Molecule, rule: &ContactRule) -> Vec<((usize, usize), f32)> {
-    let chem = drug.chemistry();
-    chem.torsions
-        .movable_pairs(&chem.adjacency)
+/// The pairs of molecule 1's atoms more than three bonds apart whose
+/// distance some turn of its rotatable bonds changes, by brute force from
+/// the bonds' sides (a turn moves one atom and not the other, and neither
+/// lies on its axis): the judge's pairs, found without the torsion tree's
+/// own list of them.
+fn judged_pairs(session: &Session) -> Vec<(usize, usize)> {
+    let bonds = session.rotatable_bonds(1);
+    let drug = &session.bodies()[1].molecule;
+    crate::chem::torsions::pairs_beyond_three_bonds(&drug.chemistry().adjacency)
         .into_iter()
-        .filter_map(|(i, j)| {
-            let (i, j) = (i as usize, j as usize);
+        .filter(|&(i, j)| {
+            bonds.iter().any(|b| {
+                let moves = |a: u32| b.moving.binary_search(&a).is_ok();
+                moves(i) != moves(j) && !b.atoms.contains(&i) && !b.atoms.contains(&j)
+            })
+        })
+        .map(|(i, j)| (i as usize, j as usize))
+        .collect()
+}
+
+/// Those of `pairs` of `drug`'s atoms that collide under `rule`, with how
+/// far each presses beyond its contact distance (brute force: the judge).
+fn inner_overlaps(
+    drug: &Molecule,
+    pairs: &[(usize, usize)],
+    rule: &ContactRule,
+) -> Vec<((usize, usize), f32)> {
+    pairs
+        .iter()
+        .filter_map(|&(i, j)| {
             let (a, b) = (drug.atoms.get(i)?, drug.atoms.get(j)?);
             let (p, q) = (drug.local.get(i)?, drug.local.get(j)?);
             rule.collides(a.radius, a.polar, b.radius, b.polar, p.distance_squared(*q))
@@ -306,12 +324,13 @@ pub fn start_signs(n: usize, seed: u64) -> Vec<f64> {
 /// start never puts the drug's halves into each other.
 fn start_shape(
     session: &mut Session,
+    pairs: &[(usize, usize)],
     seed: u64,
     rule: &ContactRule,
 ) -> Result<Vec<f64>, TorsionError> {
     // Within the f32 noise of recomputing the untouched atoms' places.
     const SAME: f32 = 1e-4;
-    let at_file = inner_overlaps(&session.bodies()[1].molecule, rule);
+    let at_file = inner_overlaps(&session.bodies()[1].molecule, pairs, rule);
     let no_worse = |now: &[((usize, usize), f32)]| {
         now.iter()
             .all(|(p, d)| at_file.iter().any(|(q, e)| q == p && *d <= e + SAME))
@@ -324,7 +343,7 @@ fn start_shape(
         for candidate in [sign, -sign] {
             turns[k] = candidate * START_TORSION;
             session.set_torsions(1, &radians(&turns))?;
-            if no_worse(&inner_overlaps(&session.bodies()[1].molecule, rule)) {
+            if no_worse(&inner_overlaps(&session.bodies()[1].molecule, pairs, rule)) {
                 clear = true;
                 break;
             }
@@ -416,13 +435,14 @@ pub fn steer(
     } else {
         0
     };
+    let judged = judged_pairs(&session);
     let start_turns = if torsions > 0 {
-        start_shape(&mut session, opts.seed, &rule)?
+        start_shape(&mut session, &judged, opts.seed, &rule)?
     } else {
         Vec::new()
     };
     // Sorted by pair for the lookups of each frame.
-    let mut start_inner = inner_overlaps(&session.bodies()[1].molecule, &rule);
+    let mut start_inner = inner_overlaps(&session.bodies()[1].molecule, &judged, &rule);
     start_inner.sort_by_key(|a| a.0);
     let (rec, drg) = (&session.bodies()[0], &session.bodies()[1]);
     let receptor_atoms = world_atoms(&rec.molecule, &rec.pose);
@@ -517,7 +537,7 @@ pub fn steer(
             rmsd: now_rmsd(&session),
             score: out.settled.as_ref().map(|p| p.inter.1),
             collides: !clear(&receptor_atoms, &b.molecule, &b.pose, &rule, 0.0)
-                || !inner_overlaps(&b.molecule, &rule).is_empty(),
+                || !inner_overlaps(&b.molecule, &judged, &rule).is_empty(),
         });
     }
     let mut sorted = report.step_us.clone();
