@@ -56,6 +56,47 @@ fn crystal_poses_do_not_collide() {
     println!("1s3v + TQD crystal pose: {} clashes", pairs.len());
 }
 
+/// A metal's coordination bonds (about 2 Å) are touches, not collisions:
+/// 1dt6's heme iron sits 2.46 Å from its cysteine's SG, and 1aon's ADP
+/// holds a magnesium at 2.17 and 2.45 Å from two phosphate oxygens, which
+/// van der Waals radii would count as overlaps of 1.3, 1.1 and 0.8 Å.
+#[test]
+fn metal_coordination_at_crystal_poses_is_not_a_collision() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    for (file, lig, metal) in [("1dt6.pdb", "HEM", "Fe"), ("1aon.pdb.gz", "ADP:A:1", "Mg")] {
+        let (r, d) = split(&dir, file, lig);
+        let s = Scene::new(
+            r.clone(),
+            d.clone(),
+            ContactRule::default(),
+            ColliderKind::Hashed,
+        );
+        let rel = s.file_relative(DVec3::ZERO);
+        // The metal is within 2.5 Å of an N, O or S of the other molecule.
+        let coordinated = (0..d.len()).any(|i| {
+            (0..r.len()).any(|j| {
+                let (a, b) = (&d.atoms[i], &r.atoms[j]);
+                let pair = [a.element.as_str(), b.element.as_str()];
+                pair.contains(&metal)
+                    && pair.iter().any(|e| matches!(*e, "N" | "O" | "S"))
+                    && d.file_position(i).distance(r.file_position(j)) < 2.5
+            })
+        });
+        assert!(coordinated, "{file} {lig}: no {metal} site");
+        let pairs = s.check(&rel);
+        let with_metal: Vec<_> = pairs
+            .iter()
+            .filter(|p| {
+                r.atoms[p.receptor as usize].element == metal
+                    || d.atoms[p.drug as usize].element == metal
+            })
+            .collect();
+        assert!(with_metal.is_empty(), "{file} {lig}: {with_metal:?}");
+    }
+}
+
 #[test]
 fn drugs_return_to_their_crystal_pose_along_free_paths() {
     let Some(dir) = common::shared_pdb() else {

@@ -89,10 +89,11 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
         ));
     }
     md.push_str(
-        "\nThe full-grid column reproduces the thesis's \"about 10 atoms per cell\". The \
-         hashed column is above the thesis's where a large ion (Ca, Fe, Mn, Sm: 2.0 Å \
-         default radius) made the cells big: with sphere-overlap counting these molecules \
-         occupy more cells than there are buckets. The colliders themselves use cells of \
+        "\nThe full-grid column reproduces the thesis's \"about 10 atoms per cell\". Metal \
+         ions take their ionic radii, so no ion (1rx1's calcium, 1dt6's iron and samarium) \
+         makes the cells larger than a sulphur's or phosphorus's diameter, 3.6 Å. The hashed \
+         column is above the grid's: with sphere-overlap counting these molecules occupy more \
+         cells than there are buckets. The colliders themselves use cells of \
          0.5 × 1.5 × 1.5 contact distances and a table of four to eight buckets per atom, not \
          4096 buckets.\n",
     );

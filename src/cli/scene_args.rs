@@ -34,7 +34,8 @@ pub struct SceneArgs {
     /// from the drug file (1-based).
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_whole)]
     pub record: Option<usize>,
-    /// Radius table: bondi (Bondi 1964, Mantina 2009) or thesis (Turk 1989).
+    /// Radius table: bondi (Bondi 1964, Mantina 2009; ionic radii for metals) or
+    /// thesis (Turk 1989).
     #[arg(long, default_value = "bondi", value_parser = parse_radii)]
     pub radii: RadiiSet,
     /// Hydrogens: drop (default) or keep.

@@ -27,7 +27,7 @@ pub struct StatsArgs {
     )]
     hash_cells: usize,
     /// Radius table: thesis (Turk 1989, the default here, as Table 1) or
-    /// bondi (Bondi 1964, Mantina 2009).
+    /// bondi (Bondi 1964, Mantina 2009); metals take ionic radii in both.
     #[arg(long, default_value = "thesis", value_parser = parse_radii)]
     radii: RadiiSet,
     /// Hydrogens: drop (default) or keep, as in check and touch.

@@ -93,8 +93,9 @@ impl ColliderKind {
 /// Largest drug atom radius, in Å, whose searches the padded rows serve:
 /// every common drug element's (C, N, O, F, P, S, Cl) but bromine's and
 /// iodine's, whose searches go to the plain grid. A receptor's largest
-/// radius (1rx1 has an atom of 2.31 Å) sets the grid's cell, but a larger
-/// margin than needed scans and stores more for every query.
+/// radius (a selenomethionine's 1.9 Å, a silicon's 2.1 Å) sets the grid's
+/// cell, but a larger margin than needed scans and stores more for every
+/// query.
 const ROW_DRUG_RADIUS: f32 = 1.8;
 
 /// Room the padded rows keep beyond a drug atom's reach, in Å: its sweep

@@ -437,11 +437,11 @@ fn missing_file_is_io() {
 }
 
 #[test]
-fn unknown_elements_get_default_radius_and_one_warning_each() {
+fn metals_take_ionic_radii_without_a_warning() {
     let Some(l) = load("1dt6.pdb", Hydrogens::Drop) else {
         return;
     };
-    for sym in ["Fe", "Sm"] {
+    for (sym, radius) in [("Fe", 0.78), ("Sm", 0.958)] {
         let atoms: Vec<&AtomInfo> = l
             .structure
             .atoms
@@ -449,14 +449,35 @@ fn unknown_elements_get_default_radius_and_one_warning_each() {
             .filter(|a| a.element == sym)
             .collect();
         assert_eq!(atoms.len(), 1, "{sym}");
-        assert_eq!(atoms[0].radius, UNKNOWN_RADIUS);
-        let n = l
-            .warnings
-            .iter()
-            .filter(|w| w.contains(&format!("element {sym} ")) && w.contains("1dt6.pdb"))
-            .count();
-        assert_eq!(n, 1, "{sym}: {:?}", l.warnings);
+        assert_eq!(atoms[0].radius, radius);
     }
+    assert!(
+        !l.warnings.iter().any(|w| w.contains("radius")),
+        "{:?}",
+        l.warnings
+    );
+}
+
+#[test]
+fn unknown_elements_get_default_radius_and_one_warning_each() {
+    let mut text = atom_line(1, "C1", "LIG", 'A', 1, 0.0);
+    for (serial, x) in [(2, 1.5), (3, 3.0)] {
+        let mut line = atom_line(serial, "X1", "LIG", 'A', 1, x)
+            .trim_end()
+            .to_string();
+        line.replace_range(76..78, "OG");
+        text += &format!("{line}\n");
+    }
+    let l = parse_pdb_text(&text).expect("loads");
+    let a = &l.structure.atoms;
+    assert_eq!((a[1].element.as_str(), a[2].element.as_str()), ("Og", "Og"));
+    assert_eq!((a[1].radius, a[2].radius), (UNKNOWN_RADIUS, UNKNOWN_RADIUS));
+    let about: Vec<&String> = l
+        .warnings
+        .iter()
+        .filter(|w| w.contains("element Og ") && w.contains("2 atoms") && w.contains("inline.pdb"))
+        .collect();
+    assert_eq!(about.len(), 1, "{:?}", l.warnings);
 }
 
 #[test]

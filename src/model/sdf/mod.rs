@@ -519,14 +519,14 @@ $$$$
 
     #[test]
     fn unpadded_lines_and_unknown_elements() {
-        let text = "\n\n\n2 0 0 0 0 0 0 0 0 0999 V2000\n1.0 2.0 3.0 Fe 0\n-1.25 2 3 C\nM  END\n";
+        let text = "\n\n\n2 0 0 0 0 0 0 0 0 0999 V2000\n1.0 2.0 3.0 Og 0\n-1.25 2 3 C\nM  END\n";
         let l = parse(text).unwrap();
         let s = &l.structure;
-        assert_eq!(s.atoms[0].element, "Fe");
+        assert_eq!(s.atoms[0].element, "Og");
         assert_eq!(s.atoms[0].residue, "LIG");
         assert_eq!(s.atoms[0].radius, UNKNOWN_RADIUS);
         assert_eq!(s.positions[1], DVec3::new(-1.25, 2.0, 3.0));
         assert_eq!(l.warnings.len(), 1);
-        assert!(l.warnings[0].contains("t.sdf") && l.warnings[0].contains("Fe"));
+        assert!(l.warnings[0].contains("t.sdf") && l.warnings[0].contains("Og"));
     }
 }
