@@ -704,6 +704,42 @@ fn steer_starts_with_the_drugs_own_atoms_clear_of_each_other() {
     assert_eq!(overlap(&top, "start_inner_overlap"), 0.0, "{top}");
 }
 
+/// `--escape` runs the controller from the file pose and file torsions out
+/// to the start, its pose and turned bonds: collision off it gets there
+/// exactly; under `soft` nothing presses past the limit on the way.
+#[test]
+fn steer_escape_runs_from_the_file_pose_out_to_the_start() {
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let file = dir.join("4dfr.pdb");
+    let file = file.to_str().expect("path");
+    let direction = "0.3797986477904189,0.78125,0.4953800809848628";
+    let num = |v: &serde_json::Value, k: &str| v[k].as_f64().expect(k);
+    let free = steer_flexible(file, "MTX", direction, 4, "pass", &["--escape"]);
+    assert_eq!(free["escape"], true, "{free}");
+    assert_eq!(free["reached"], true, "{free}");
+    for k in [
+        "final_rmsd",
+        "final_offset",
+        "final_turn",
+        "final_torsion_rms",
+    ] {
+        assert!(num(&free, k) < 1e-3, "{k}: {free}");
+    }
+    let turned = free["start_torsions"].as_array().expect("start_torsions");
+    assert!(turned.iter().any(|t| t.as_f64() != Some(0.0)), "{free}");
+    // The run in from the same start: the same start, the other way.
+    let back = steer_flexible(file, "MTX", direction, 4, "pass", &[]);
+    assert_eq!(back["escape"], false);
+    assert_eq!(back["start_torsions"], free["start_torsions"]);
+    assert_eq!(back["start_distance"], free["start_distance"]);
+    let soft = steer_flexible(file, "MTX", direction, 4, "soft", &["--escape"]);
+    assert!(num(&soft, "deepest_overlap") <= 1.0 + 1e-4, "{soft}");
+    assert!(num(&soft, "deepest_inner_overlap") <= 1.0 + 1e-4, "{soft}");
+    assert!(num(&soft, "best_rmsd") <= num(&soft, "final_rmsd") + 1e-12);
+}
+
 #[test]
 fn steer_flexible_turns_the_torsions_home_and_settles_free_of_overlaps() {
     let Some(dir) = common::shared_pdb() else {

@@ -20,8 +20,12 @@
 //! there, how much of their path ran deeper than the default limit: set
 //! beside the straight path's length through the receptor, it tells a
 //! drug that went round the receptor from one that went through it.
-//! Last, where the soft flexible runs that miss end: pressed against the
-//! receptor with the push head-on into its smoothed surface, or not.
+//! Where the soft flexible runs that miss end: pressed against the
+//! receptor with the push head-on into its smoothed surface, or not, and
+//! how far their centre, orientation and bonds are from the file pose's.
+//! Last, the way out: the controller run from the file pose out to each
+//! start (`escape`), which tells a pocket that holds its drug in from one
+//! the straight push from outside cannot find the way into.
 
 use std::path::Path;
 use std::time::Instant;
@@ -203,10 +207,116 @@ struct Missed {
     runs: usize,
     cosines: Vec<f64>,
     rmsd: Vec<f64>,
+    /// Their centres' distances from the file pose's centre, Å.
+    offsets: Vec<f64>,
+    /// Their turns from the file orientation, degrees.
+    turns: Vec<f64>,
+    /// Their bonds' RMS from the file angles, degrees.
+    torsions: Vec<f64>,
 }
+
+/// A run that ends with its centre this close to the file pose's (Å) is
+/// at the pocket; its RMSD is then its orientation's and shape's.
+const AT_THE_POCKET: f64 = 3.0;
 
 /// A push within 30° of the receptor's inward surface normal: head-on.
 const HEAD_ON_COS: f64 = 0.866;
+
+/// The responses of the way out, flexible.
+const ESCAPE_RESPONSES: [Response; 2] = [Response::Slide, Response::Soft];
+
+/// One row of the way out: the controller run the other way, from the file
+/// pose out to the start, flexible, under one response.
+struct EscapeRow {
+    complex: &'static str,
+    response: Response,
+    starts: usize,
+    /// Runs that got out (RMSD ≤ 2 Å to the start at some frame).
+    out: usize,
+    median_frames: Option<f64>,
+    /// Runs that got in, the same response flexible, from the same starts.
+    got_in: usize,
+    /// Starts from which the run got out but the run in did not get there.
+    out_not_in: usize,
+}
+
+/// The controller run the other way under each of [`ESCAPE_RESPONSES`].
+fn escapes(
+    complex: &'static str,
+    receptor: &Molecule,
+    drug: &Molecule,
+    dirs: &[DVec3],
+    ins: &[(Response, Vec<Run>)],
+) -> Vec<EscapeRow> {
+    ESCAPE_RESPONSES
+        .iter()
+        .map(|&response| {
+            let opts = SteerOptions {
+                response,
+                flexible: true,
+                settle: false,
+                seed: 1,
+                escape: true,
+            };
+            let r = runs(receptor, drug, dirs, opts, DEFAULT_LIMIT);
+            let got = |run: &Run| run.as_ref().is_some_and(|r| r.reached);
+            let way_in = ins
+                .iter()
+                .find(|(resp, _)| *resp == response)
+                .map(|(_, r)| r);
+            let frames: Vec<f64> = r
+                .iter()
+                .flatten()
+                .filter_map(|r| r.reached_frame.map(|f| f as f64))
+                .collect();
+            EscapeRow {
+                complex,
+                response,
+                starts: r.iter().flatten().count(),
+                out: r.iter().filter(|run| got(run)).count(),
+                median_frames: (!frames.is_empty()).then(|| median(&frames)),
+                got_in: way_in.map_or(0, |w| w.iter().filter(|run| got(run)).count()),
+                out_not_in: way_in.map_or(0, |w| {
+                    r.iter().zip(w).filter(|(o, i)| got(o) && !got(i)).count()
+                }),
+            }
+        })
+        .collect()
+}
+
+/// The way out's table.
+fn escape_markdown(rows: &[EscapeRow]) -> String {
+    let mut md = String::from(
+        "\n### Does the pocket let the drug out? The way back\n\n\
+         The same controller run the other way (`bump steer --escape`): from the file pose and \
+         file torsions out to each start (its pose and turned bonds), flexible, with the same \
+         steps; *out* is an RMSD ≤ 2 Å to the start at some frame. A drug that gets out of its \
+         pocket from its crystal pose has a way in under that response, the path reversed; \
+         one that gets out but not in from the same start shows the pocket open and the \
+         straight push from outside the obstacle, not the pocket's shape.\n\n\
+         | complex | response | starts | out | rate | frames (median) | in, same starts | out but not in |\n\
+         | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+    );
+    for r in rows {
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {:.0} % | {} | {} | {} |\n",
+            r.complex,
+            r.response.name(),
+            r.starts,
+            r.out,
+            if r.starts == 0 {
+                0.0
+            } else {
+                100.0 * r.out as f64 / r.starts as f64
+            },
+            r.median_frames
+                .map_or_else(|| "–".to_string(), |f| format!("{f:.0}")),
+            r.got_in,
+            r.out_not_in,
+        ));
+    }
+    md
+}
 
 /// One row of the soft-limit sweep: soft flexible on a complex at one limit.
 struct SweepRow {
@@ -244,6 +354,7 @@ fn limit_sweep(
         flexible: true,
         settle: false,
         seed: 1,
+        escape: false,
     };
     SWEEP_LIMITS
         .iter()
@@ -390,17 +501,20 @@ fn summarise(complex: &'static str, opts: SteerOptions, runs: &[Run]) -> Row {
                     .filter_map(|r| r.end_push_into_surface)
                     .collect(),
                 rmsd: missed.iter().map(|r| r.final_rmsd).collect(),
+                offsets: missed.iter().map(|r| r.final_offset).collect(),
+                turns: missed.iter().map(|r| r.final_turn).collect(),
+                torsions: missed.iter().map(|r| r.final_torsion_rms).collect(),
             }
         },
     }
 }
 
-/// Where the soft flexible runs that do not get there end.
+/// Where the flexible slide and soft runs that do not get there end.
 fn missed_markdown(rows: &[Row]) -> String {
     let mut md = String::from(
         "\n### Where the runs that do not get there end\n\n\
-         The soft flexible runs above that miss the pocket, at their last frame: how many end \
-         pressed against the receptor; the cosine between the controller's push (towards the \
+         The flexible `slide` and `soft` runs above that miss the pocket, at their last frame: \
+         how many end pressed against the receptor; the cosine between the controller's push (towards the \
          file pose's centre) and the inward normal of the receptor's smoothed surface at the \
          touching atoms (the surface the glide follows: 1 is head-on into the receptor's \
          body, 0 along it); how many push within 30° of head-on; and how far from the file \
@@ -408,34 +522,41 @@ fn missed_markdown(rows: &[Row]) -> String {
          the glide round the receptor's body (its shape smoothed over 10 Å) carries such a \
          run on round, unless the body's shape, too, meets the push head-on there, or the \
          climb does not ride over the atoms in the way, or the receptor's mass round the drug \
-         is as all-round as in a pocket's mouth, where nothing lifts the drug out.\n\n\
-         | complex | missed | end against the receptor | push into its surface, cos (median) | head-on (within 30°) | RMSD at the end Å (median) |\n\
-         | --- | ---: | ---: | ---: | ---: | ---: |\n",
+         is as all-round as in a pocket's mouth, where nothing lifts the drug out. Then what \
+         the RMSD at the end is made of: the centre's distance from the file pose's, the turn \
+         from the file orientation and the bonds' RMS from their file angles (medians), and \
+         how many end with the centre within 3 Å of the file pose's: at the pocket, but turned \
+         round in it, where the controller's straight push, 3° a frame, cannot turn a drug \
+         that the pocket holds on every side.\n\n\
+         | complex | response | missed | end against the receptor | push into its surface, cos (median) | head-on (within 30°) | RMSD at the end Å (median) | centre off Å (median) | turned ° (median) | bonds off ° RMS (median) | centre within 3 Å |\n\
+         | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
     );
     for r in rows
         .iter()
-        .filter(|r| r.response == Response::Soft && r.flexible)
+        .filter(|r| r.flexible && matches!(r.response, Response::Slide | Response::Soft))
     {
         let m = &r.missed;
-        let (cos, rmsd) = if m.runs == 0 {
-            ("–".to_string(), "–".to_string())
-        } else {
-            (
-                if m.cosines.is_empty() {
-                    "–".to_string()
-                } else {
-                    format!("{:.2}", median(&m.cosines))
-                },
-                format!("{:.1}", median(&m.rmsd)),
-            )
+        let med = |v: &[f64], places: usize| {
+            if v.is_empty() {
+                "–".to_string()
+            } else {
+                format!("{:.*}", places, median(v))
+            }
         };
         md.push_str(&format!(
-            "| {} | {} of {} | {} | {cos} | {} | {rmsd} |\n",
+            "| {} | {} | {} of {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.complex,
+            r.response.name(),
             m.runs,
             r.starts,
             m.cosines.len(),
+            med(&m.cosines, 2),
             m.cosines.iter().filter(|&&c| c >= HEAD_ON_COS).count(),
+            med(&m.rmsd, 1),
+            med(&m.offsets, 1),
+            med(&m.turns, 0),
+            med(&m.torsions, 0),
+            m.offsets.iter().filter(|&&d| d <= AT_THE_POCKET).count(),
         ));
     }
     md
@@ -459,6 +580,7 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
     let t0 = Instant::now();
     let mut rows = Vec::new();
     let mut sweep = Vec::new();
+    let mut escape = Vec::new();
     let mut skipped = Vec::new();
     for (label, receptor, drug) in
         COMPLEXES
@@ -473,6 +595,7 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
                 continue;
             }
         };
+        let mut flexible_runs = Vec::new();
         for flexible in [false, true] {
             for response in RESPONSES {
                 // The soft flexible runs settle at the end.
@@ -481,11 +604,16 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
                     flexible,
                     settle: flexible && response == Response::Soft,
                     seed: 1,
+                    escape: false,
                 };
                 let r = runs(&receptor, &drug, &dirs, opts, DEFAULT_LIMIT);
                 rows.push(summarise(label, opts, &r));
+                if flexible {
+                    flexible_runs.push((response, r));
+                }
             }
         }
+        escape.extend(escapes(label, &receptor, &drug, &dirs, &flexible_runs));
         sweep.extend(limit_sweep(label, &receptor, &drug, &dirs));
     }
     let seconds = t0.elapsed().as_secs_f64();
@@ -514,7 +642,7 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
          collision response's (a rigid move or one bond's turn), over every run. The soft \
          flexible runs then settle (the session's settle, exact Vina): the median heavy-atom \
          RMSD after settle and how many end free of overlaps (with the receptor and within \
-         the drug). {} runs in {seconds:.0} s.\n\n\
+         the drug). {} runs in {seconds:.0} s, with the way out and the sweep below.\n\n\
          | complex | drug | response | starts | reached | rate | frames (median) | deepest Å | least deepest Å | straight within the limit | beyond the limit Å (median) | step µs (median) | step µs (p99) | settled RMSD Å (median) | settled collision-free |\n\
          | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
         rows.iter().map(|r| r.starts).sum::<usize>()
@@ -554,6 +682,7 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
     }
     md.push_str("\n![dockability](bench/dockability.svg)\n");
     md.push_str(&missed_markdown(&rows));
+    md.push_str(&escape_markdown(&escape));
     let (sweep_md, sweep_headline) = sweep_markdown(&sweep, |c| {
         rows.iter()
             .find(|r| r.complex == c && r.flexible && r.response == Response::Pass)

@@ -2,7 +2,8 @@
 //! from a clear start along a direction, towards the file pose (and, with
 //! `--flexible`, the file torsions), through a collision response; reports
 //! whether the drug got there, and with `--settle` what the session's
-//! settle made of the end.
+//! settle made of the end. `--escape` runs it the other way, from the file
+//! pose out to the start: does the pocket let the drug out?
 
 use bump::collide::Response;
 use bump::session::Settings;
@@ -36,6 +37,10 @@ pub struct SteerArgs {
     /// Seed of the start's torsion turns (with --flexible).
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Run the other way: from the file pose (and file torsions) out to
+    /// the start; reached then means within 2 Å RMSD of the start.
+    #[arg(long)]
+    escape: bool,
     /// Print JSON.
     #[arg(long)]
     json: bool,
@@ -72,6 +77,7 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
             flexible: args.flexible,
             settle: args.settle,
             seed: args.seed,
+            escape: args.escape,
         },
     )?;
     if args.json {
@@ -80,7 +86,12 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
     }
     let [x, y, z] = r.direction;
     outln!(
-        "start {:.1} Å along ({x:.3}, {y:.3}, {z:.3}), response {}{}",
+        "{} {:.1} Å along ({x:.3}, {y:.3}, {z:.3}), response {}{}",
+        if r.escape {
+            "from the file pose out to the start"
+        } else {
+            "start"
+        },
         r.start_distance,
         r.response.name(),
         if r.flexible {
@@ -94,14 +105,29 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
         }
     );
     outln!(
-        "{} (symmetry-corrected heavy-atom RMSD ≤ {REACHED_RMSD} Å{}); best {:.2} Å, final {:.2} Å after {} of at most {MAX_FRAMES} frames",
+        "{} (symmetry-corrected heavy-atom RMSD ≤ {REACHED_RMSD} Å to the {}{}); best {:.2} Å, final {:.2} Å after {} of at most {MAX_FRAMES} frames",
         if r.reached { "reached" } else { "not reached" },
+        if r.escape { "start" } else { "file pose" },
         r.reached_frame
             .map(|f| format!(" at frame {f}"))
             .unwrap_or_default(),
         r.best_rmsd,
         r.final_rmsd,
         r.frames
+    );
+    outln!(
+        "ends {:.2} Å from the {}'s centre, turned {:.1}° from its orientation{}",
+        r.final_offset,
+        if r.escape { "start" } else { "file pose" },
+        r.final_turn,
+        if r.flexible {
+            format!(
+                ", its bonds {:.1}° (RMS) from their angles",
+                r.final_torsion_rms
+            )
+        } else {
+            String::new()
+        }
     );
     outln!(
         "deepest overlap beyond the contact rule: {:.3} Å with the receptor ({:.1} Å of the path deeper than the soft limit), {:.3} Å within the drug beyond its start's {:.3} Å; a step takes {:.1} µs (median), {:.1} µs (p99)",

@@ -24,6 +24,16 @@
 //! pressed against the receptor reports how squarely its last push ran into
 //! the receptor's smoothed surface ([`SteerReport::end_push_into_surface`]).
 //!
+//! With `escape` the controller runs the other way, as a measurement of
+//! whether the pocket lets the drug out at all: from the file pose and
+//! file torsions towards the start (its pose and, with `flexible`, its
+//! turned bonds), with the same steps, and the run gets there when the
+//! RMSD to the start is at most 2 Å. A run out that gets there, reversed,
+//! is a way in that keeps to the response's limit: a pocket its drug gets
+//! out of is open, and a start reached on the way out but not left on the
+//! way in shows the straight push from outside in the way, not the
+//! pocket.
+//!
 //! Everything a soft frame needs (the environment, the loosened index,
 //! the clearance map) is built before the first frame
 //! ([`Session::prepare_response`]), so the step times are the steps'.
@@ -93,6 +103,8 @@ pub struct SteerOptions {
     pub settle: bool,
     /// Seed of the start's torsion turns.
     pub seed: u64,
+    /// Run the other way: from the file pose out to the start.
+    pub escape: bool,
 }
 
 impl Default for SteerOptions {
@@ -102,6 +114,7 @@ impl Default for SteerOptions {
             flexible: false,
             settle: false,
             seed: 1,
+            escape: false,
         }
     }
 }
@@ -132,6 +145,9 @@ pub struct SteerReport {
     pub response: Response,
     /// Whether the rotatable bonds turned.
     pub flexible: bool,
+    /// Whether the run went the other way, from the file pose out to the
+    /// start (every RMSD and `reached` are then to the start).
+    pub escape: bool,
     /// Rotatable bonds turned (0 for a rigid run).
     pub torsions: usize,
     /// The start's turn of each rotatable bond from its file angle,
@@ -149,6 +165,16 @@ pub struct SteerReport {
     pub best_rmsd: f64,
     /// Heavy-atom RMSD at the end, Å.
     pub final_rmsd: f64,
+    /// How far the drug's centre ends from the target's (the file pose, or
+    /// with `escape` the start), Å.
+    pub final_offset: f64,
+    /// How far the drug's orientation ends turned from the target's,
+    /// degrees (0 to 180): with the centre near the target, a drug that
+    /// reached the pocket turned round.
+    pub final_turn: f64,
+    /// Root mean square of the rotatable bonds' ends from the target
+    /// torsions, degrees (0 for a rigid run).
+    pub final_torsion_rms: f64,
     /// Frames run.
     pub frames: usize,
     /// Deepest overlap with the receptor beyond the default contact rule
@@ -356,15 +382,16 @@ fn start_shape(
     Ok(turns)
 }
 
-/// The frame's proposal towards the file pose and torsions: the commands
-/// (none when there is nothing left to do).
-fn proposal(session: &Session, file: &Pose, flexible: bool) -> Vec<Command> {
+/// The frame's proposal towards the pose `target` and the torsions
+/// `target_torsions` (radians from the file angles; empty for a rigid
+/// run): the commands (none when there is nothing left to do).
+fn proposal(session: &Session, target: &Pose, target_torsions: &[f64]) -> Vec<Command> {
     let pose = session.bodies()[1].pose;
-    let mut translate = file.translation - pose.translation;
+    let mut translate = target.translation - pose.translation;
     if translate.length() > MAX_STEP {
         translate = translate.normalize() * MAX_STEP;
     }
-    let q = (file.rotation * pose.rotation.conjugate()).normalize();
+    let q = (target.rotation * pose.rotation.conjugate()).normalize();
     let (axis, angle) = q.to_axis_angle();
     let mut degrees = angle.to_degrees();
     if degrees > 180.0 {
@@ -379,22 +406,28 @@ fn proposal(session: &Session, file: &Pose, flexible: bool) -> Vec<Command> {
             degrees,
         });
     }
-    if flexible {
-        for (k, &t) in session.torsion_angles(1).iter().enumerate() {
-            let turn = (-t.to_degrees()).clamp(-MAX_TORSION_TURN, MAX_TORSION_TURN);
-            if turn != 0.0 {
-                commands.push(Command::SelectTorsion(Some(k)));
-                commands.push(Command::TurnTorsion { degrees: turn });
-            }
+    for (k, (&t, &want)) in session
+        .torsion_angles(1)
+        .iter()
+        .zip(target_torsions)
+        .enumerate()
+    {
+        let turn = (want - t)
+            .to_degrees()
+            .clamp(-MAX_TORSION_TURN, MAX_TORSION_TURN);
+        if turn != 0.0 {
+            commands.push(Command::SelectTorsion(Some(k)));
+            commands.push(Command::TurnTorsion { degrees: turn });
         }
     }
     commands
 }
 
-/// [`SteerReport::end_push_into_surface`] of the drug where it stands.
-fn push_into_surface(session: &mut Session, file: &Pose) -> Option<f64> {
+/// [`SteerReport::end_push_into_surface`] of the drug where it stands,
+/// pushed towards `target`.
+fn push_into_surface(session: &mut Session, target: &Pose) -> Option<f64> {
     let pose = session.bodies()[1].pose;
-    let push = file.translation - pose.translation;
+    let push = target.translation - pose.translation;
     if push.length() <= MAX_STEP {
         return None;
     }
@@ -408,7 +441,8 @@ fn push_into_surface(session: &mut Session, file: &Pose) -> Option<f64> {
 }
 
 /// Runs the controller: `receptor` stays, `drug` starts along `direction`
-/// and is steered towards its file pose as `opts` says.
+/// and is steered towards its file pose as `opts` says (with `escape`,
+/// the other way).
 ///
 /// # Errors
 /// A zero direction, or no clear start.
@@ -441,28 +475,43 @@ pub fn steer(
     } else {
         Vec::new()
     };
-    // Sorted by pair for the lookups of each frame.
-    let mut start_inner = inner_overlaps(&session.bodies()[1].molecule, &judged, &rule);
-    start_inner.sort_by_key(|a| a.0);
     let (rec, drg) = (&session.bodies()[0], &session.bodies()[1]);
     let receptor_atoms = world_atoms(&rec.molecule, &rec.pose);
     let (start, start_distance) =
         start_pose(&rec.molecule, &rec.pose, &drg.molecule, &file, d, &rule)
             .ok_or(SteerError::NoStart)?;
-    // Put the drug at the start (a jump, outside the controller's frames),
-    // and build what the response needs before the first frame.
-    session.bodies[1].pose = start;
+    let start_radians: Vec<f64> = start_turns.iter().map(|t| t.to_radians()).collect();
+    // Where the run begins and where it is steered to: (pose, torsions
+    // from the file angles, radians).
+    let (from, target, target_torsions) = if opts.escape {
+        let at_start = heavy_atoms(&session.bodies()[1].molecule, &start);
+        if !start_radians.is_empty() {
+            session.set_torsions(1, &vec![0.0; start_radians.len()])?;
+        }
+        (file, (start, at_start), start_radians)
+    } else {
+        let zeros = vec![0.0; start_radians.len()];
+        (start, (file, file_atoms), zeros)
+    };
+    let (target, target_atoms) = target;
+    // Sorted by pair for the lookups of each frame.
+    let mut start_inner = inner_overlaps(&session.bodies()[1].molecule, &judged, &rule);
+    start_inner.sort_by_key(|a| a.0);
+    // Put the drug where the run begins (a jump, outside the controller's
+    // frames), and build what the response needs before the first frame.
+    session.bodies[1].pose = from;
     session.env = None;
     session.history = super::History::default();
     session.prepare_response();
     let now_rmsd = |s: &Session| {
         let b = &s.bodies()[1];
-        symmetry::rmsd_over(&swaps, &heavy_atoms(&b.molecule, &b.pose), &file_atoms)
+        symmetry::rmsd_over(&swaps, &heavy_atoms(&b.molecule, &b.pose), &target_atoms)
     };
     let mut report = SteerReport {
         direction: d.to_array(),
         response: opts.response,
         flexible: opts.flexible,
+        escape: opts.escape,
         torsions,
         start_torsions: start_turns,
         start_distance,
@@ -470,6 +519,9 @@ pub fn steer(
         reached_frame: None,
         best_rmsd: now_rmsd(&session),
         final_rmsd: 0.0,
+        final_offset: 0.0,
+        final_turn: 0.0,
+        final_torsion_rms: 0.0,
         frames: 0,
         deepest_overlap: 0.0,
         start_inner_overlap: start_inner
@@ -488,7 +540,7 @@ pub fn steer(
     let limit = session.settings.soft_limit;
     let mut last_centre = session.bodies()[1].pose.translation;
     for frame in 1..=MAX_FRAMES {
-        let commands = proposal(&session, &file, opts.flexible);
+        let commands = proposal(&session, &target, &target_torsions);
         if commands.is_empty() {
             break;
         }
@@ -528,7 +580,27 @@ pub fn steer(
         }
     }
     report.final_rmsd = now_rmsd(&session);
-    report.end_push_into_surface = push_into_surface(&mut session, &file);
+    let end = session.bodies()[1].pose;
+    report.final_offset = end.translation.distance(target.translation);
+    report.final_turn = end
+        .rotation
+        .normalize()
+        .angle_between(target.rotation.normalize())
+        .to_degrees();
+    let off: Vec<f64> = session
+        .torsion_angles(1)
+        .iter()
+        .zip(&target_torsions)
+        .map(|(t, want)| {
+            let d = (t - want).rem_euclid(std::f64::consts::TAU);
+            d.min(std::f64::consts::TAU - d).to_degrees()
+        })
+        .collect();
+    if !off.is_empty() {
+        report.final_torsion_rms =
+            (off.iter().map(|d| d * d).sum::<f64>() / off.len() as f64).sqrt();
+    }
+    report.end_push_into_surface = push_into_surface(&mut session, &target);
     if opts.settle {
         let out = session.step(&FrameInput::with_commands(&[Command::Settle]), 0.0);
         let b = &session.bodies()[1];
@@ -662,6 +734,54 @@ mod tests {
         )
         .expect("steer");
         assert!(r.reached && r.end_push_into_surface.is_none(), "{r:?}");
+    }
+
+    #[test]
+    fn an_escape_runs_from_the_file_pose_out_to_the_start() {
+        let (wall, drug) = wall_and_drug();
+        let out = |response| {
+            steer(
+                wall.clone(),
+                drug.clone(),
+                Settings::default(),
+                DVec3::Z,
+                &SteerOptions {
+                    escape: true,
+                    ..opts(response)
+                },
+            )
+            .expect("steer")
+        };
+        // The wall stands between the file pose and the start: from this
+        // side, too, the push runs head-on into it and stops there.
+        let held = out(Response::Touch);
+        assert!(held.escape && !held.reached, "{held:?}");
+        assert!(held.end_push_into_surface.expect("pressed") > 0.99);
+        assert!(
+            held.final_offset > 3.0 && held.deepest_overlap == 0.0,
+            "{held:?}"
+        );
+        // Collision off, it gets out to the start: its centre and its turn.
+        let free = out(Response::Pass);
+        assert!(free.reached && free.final_rmsd < 1e-6, "{free:?}");
+        assert!(
+            free.final_offset < 1e-9 && free.final_turn < 1e-4,
+            "{free:?}"
+        );
+        // The run in from the same start ends at the file pose the same way.
+        let back = steer(
+            wall,
+            drug,
+            Settings::default(),
+            DVec3::Z,
+            &opts(Response::Pass),
+        )
+        .expect("steer");
+        assert!(
+            back.final_offset < 1e-9 && back.final_turn < 1e-4,
+            "{back:?}"
+        );
+        assert!((back.start_distance - free.start_distance).abs() < 1e-12);
     }
 
     #[test]
