@@ -20,7 +20,7 @@
 //! there, how much of their path ran deeper than the default limit: set
 //! beside the straight path's length through the receptor, it tells a
 //! drug that went round the receptor from one that went through it.
-//! Where the soft flexible runs that miss end: pressed against the
+//! Where the flexible slide and soft runs that miss end: pressed against the
 //! receptor with the push head-on into its smoothed surface, or not, and
 //! how far their centre, orientation and bonds are from the file pose's.
 //! Last, the way out: the controller run from the file pose out to each
