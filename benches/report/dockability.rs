@@ -304,11 +304,7 @@ fn escape_markdown(rows: &[EscapeRow]) -> String {
             r.response.name(),
             r.starts,
             r.out,
-            if r.starts == 0 {
-                0.0
-            } else {
-                100.0 * r.out as f64 / r.starts as f64
-            },
+            percent(r.out, r.starts),
             r.median_frames
                 .map_or_else(|| "–".to_string(), |f| format!("{f:.0}")),
             r.got_in,
@@ -333,11 +329,7 @@ struct SweepRow {
 
 impl SweepRow {
     fn rate(&self) -> f64 {
-        if self.starts == 0 {
-            0.0
-        } else {
-            100.0 * self.reached as f64 / self.starts as f64
-        }
+        percent(self.reached, self.starts)
     }
 }
 
@@ -724,10 +716,15 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
 }
 
 fn rate(r: &Row) -> f64 {
-    if r.starts == 0 {
+    percent(r.reached, r.starts)
+}
+
+/// `k` of `n` in per cent (0 of none).
+fn percent(k: usize, n: usize) -> f64 {
+    if n == 0 {
         0.0
     } else {
-        100.0 * r.reached as f64 / r.starts as f64
+        100.0 * k as f64 / n as f64
     }
 }
 
