@@ -51,15 +51,16 @@ impl Rng {
 /// `n` unit vectors spread evenly over the sphere (a Fibonacci lattice),
 /// in a fixed order.
 pub fn sphere_directions(n: usize) -> Vec<DVec3> {
+    (0..n).map(|i| sphere_direction(i, n)).collect()
+}
+
+/// The `i`-th of [`sphere_directions`]`(n)`, without the others.
+pub fn sphere_direction(i: usize, n: usize) -> DVec3 {
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let r = (1.0 - y * y).sqrt();
-            let phi = golden * i as f64;
-            DVec3::new(r * phi.cos(), y, r * phi.sin())
-        })
-        .collect()
+    let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+    let r = (1.0 - y * y).sqrt();
+    let phi = golden * i as f64;
+    DVec3::new(r * phi.cos(), y, r * phi.sin())
 }
 
 #[cfg(test)]

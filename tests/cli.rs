@@ -593,6 +593,41 @@ fn steer_reports_the_run_as_json_and_refuses_a_zero_direction() {
     let out = bump(&["steer", "builtin", "--direction", "0,0,0"]);
     assert!(!out.status.success());
     assert!(stderr(&out).contains("direction"), "{}", stderr(&out));
+    for bad in ["8/8", "1/0", "x/2", "-1/4"] {
+        let out = bump(&["steer", "builtin", "--direction", bad]);
+        assert!(!out.status.success(), "{bad}");
+        assert!(stderr(&out).contains(bad), "{bad}: {}", stderr(&out));
+    }
+}
+
+/// `--direction K/N` is the report's run K of N: its direction and its
+/// seed, the same run as the vector with `--seed K+1`.
+#[test]
+fn steer_direction_k_of_n_is_the_reports_run() {
+    let d = bump::rng::sphere_directions(8)[2];
+    let vector = format!("{},{},{}", d.x, d.y, d.z);
+    let run = |direction: &str, seed: &[&str]| {
+        let mut args = vec![
+            "steer",
+            "builtin",
+            "--direction",
+            direction,
+            "--response",
+            "soft",
+            "--json",
+        ];
+        args.extend_from_slice(seed);
+        let mut v = json(&args);
+        for timing in ["step_us_median", "step_us_p99"] {
+            v[timing] = serde_json::Value::Null;
+        }
+        v
+    };
+    let of = run("2/8", &[]);
+    assert_eq!(of, run(&vector, &["--seed", "3"]));
+    assert_ne!(of["direction"], run("3/8", &[])["direction"]);
+    // An explicit seed still wins.
+    assert_eq!(run("2/8", &["--seed", "1"]), run(&vector, &[]));
 }
 
 /// `bump steer --json` of the drug `ligand` split from `file`, flexible,
@@ -636,8 +671,7 @@ fn steer_soft_goes_round_the_receptor_from_its_far_side() {
     // 1.5 Å and more past the contact rule (`pass`, below), beyond the
     // 1 Å soft limit. `soft` keeps to the limit and gets there round the
     // body.
-    let direction = "-0.6846403743767794,0.71875,-0.12110324220772714";
-    let run = |response: &str| steer_flexible(file, "TOP", direction, 5, response, &[]);
+    let run = |response: &str| steer_flexible(file, "TOP", "4/32", 5, response, &[]);
     let straight = run("pass");
     assert!(
         straight["deepest_overlap"].as_f64().expect("deepest") > 1.5,

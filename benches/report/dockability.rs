@@ -619,7 +619,8 @@ fn run(ctx: &Context, progress: &mut Progress) -> Part {
          for at most 3000 frames; *reached* is a heavy-atom RMSD ≤ 2 Å to the file pose at some \
          frame (the least over the swaps of atoms the drug's bonds cannot tell apart, as \
          docking benchmarks count it). {n} Fibonacci directions per complex, Bondi radii, hydrogens dropped, the \
-         default contact rule (overlap 0.6 Å, H-bond allowance 0.4 Å), soft limit 1 Å. \
+         default contact rule (overlap 0.6 Å, H-bond allowance 0.4 Å), soft limit 1 Å; run K \
+         of a row is `bump steer RECEPTOR [DRUG] --direction K/{n} --response R [--flexible]`. \
          *Frames* is the median frame at which the runs that got there got there; *deepest* \
          the deepest overlap beyond the contact rule over every run, with the receptor or \
          within the drug (where a turn pressed its own atoms deeper than the file shape has \

@@ -1,11 +1,13 @@
 //! `bump steer`: the fixed steering controller ([`bump::session::steer`]):
-//! from a clear start along a direction, towards the file pose (and, with
+//! from a clear start along a direction (a vector, or `K/N`: the report's
+//! run K of N, with its seed), towards the file pose (and, with
 //! `--flexible`, the file torsions), through a collision response; reports
 //! whether the drug got there, and with `--settle` what the session's
 //! settle made of the end. `--escape` runs it the other way, from the file
 //! pose out to the start: does the pocket let the drug out?
 
 use bump::collide::Response;
+use bump::rng::sphere_direction;
 use bump::session::Settings;
 use bump::session::steer::{MAX_FRAMES, REACHED_RMSD, SteerOptions, steer};
 use clap::Args;
@@ -18,9 +20,11 @@ use super::scene_args::{SceneArgs, parse_vec3};
 pub struct SteerArgs {
     #[command(flatten)]
     scene: SceneArgs,
-    /// Direction of the start from the file pose, X,Y,Z (any length).
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
-    direction: DVec3,
+    /// Direction of the start from the file pose: X,Y,Z (any length), or
+    /// K/N, the K-th (from 0) of N directions spread evenly over the
+    /// sphere, as the benchmark report numbers its runs.
+    #[arg(long, value_name = "X,Y,Z|K/N", value_parser = parse_direction, allow_hyphen_values = true)]
+    direction: Direction,
     /// Collision response: stop, touch, slide, soft or pass.
     #[arg(long, default_value = "soft", value_parser = parse_response)]
     response: Response,
@@ -34,9 +38,10 @@ pub struct SteerArgs {
     /// Settle after the run (the session's settle, as key G).
     #[arg(long)]
     settle: bool,
-    /// Seed of the start's torsion turns (with --flexible).
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    /// Seed of the start's torsion turns (with --flexible); 1 by default,
+    /// K+1 with --direction K/N, as the benchmark report seeds its run K.
+    #[arg(long)]
+    seed: Option<u64>,
     /// Run the other way: from the file pose (and file torsions) out to
     /// the start; reached then means within 2 Å RMSD of the start.
     #[arg(long)]
@@ -44,6 +49,46 @@ pub struct SteerArgs {
     /// Print JSON.
     #[arg(long)]
     json: bool,
+}
+
+/// Where the start lies from the file pose.
+#[derive(Debug, Clone, Copy)]
+enum Direction {
+    /// Along this vector.
+    Along(DVec3),
+    /// Along the `k`-th of `n` Fibonacci directions.
+    Of { k: usize, n: usize },
+}
+
+impl Direction {
+    /// The vector, and the seed the report gives this run.
+    fn resolve(self) -> (DVec3, u64) {
+        match self {
+            Self::Along(v) => (v, 1),
+            Self::Of { k, n } => (sphere_direction(k, n), k as u64 + 1),
+        }
+    }
+}
+
+/// The most directions `K/N` may spread over the sphere.
+const MAX_DIRECTIONS: usize = 1_000_000;
+
+fn parse_direction(s: &str) -> Result<Direction, String> {
+    let Some((k, n)) = s.split_once('/') else {
+        return parse_vec3(s).map(Direction::Along);
+    };
+    let number = |t: &str| {
+        t.trim()
+            .parse::<usize>()
+            .map_err(|e| format!("`{s}`: {e} (expected K/N, the K-th of N directions)"))
+    };
+    let (k, n) = (number(k)?, number(n)?);
+    if !(1..=MAX_DIRECTIONS).contains(&n) || k >= n {
+        return Err(format!(
+            "`{s}`: expected K/N with 0 ≤ K < N ≤ {MAX_DIRECTIONS}"
+        ));
+    }
+    Ok(Direction::Of { k, n })
 }
 
 fn parse_response(s: &str) -> Result<Response, String> {
@@ -60,6 +105,7 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
             args.soft_limit
         );
     }
+    let (direction, seed) = args.direction.resolve();
     let loaded = args.scene.load()?;
     let settings = Settings {
         rule: loaded.scene.rule,
@@ -71,12 +117,12 @@ pub fn run(args: &SteerArgs) -> anyhow::Result<()> {
         loaded.scene.receptor,
         loaded.scene.drug,
         settings,
-        args.direction,
+        direction,
         &SteerOptions {
             response: args.response,
             flexible: args.flexible,
             settle: args.settle,
-            seed: args.seed,
+            seed: args.seed.unwrap_or(seed),
             escape: args.escape,
         },
     )?;
