@@ -604,30 +604,45 @@ fn steer_reports_the_run_as_json_and_refuses_a_zero_direction() {
 /// seed, the same run as the vector with `--seed K+1`.
 #[test]
 fn steer_direction_k_of_n_is_the_reports_run() {
-    let d = bump::rng::sphere_directions(8)[2];
+    let d = bump::rng::sphere_directions(8)[3];
     let vector = format!("{},{},{}", d.x, d.y, d.z);
-    let run = |direction: &str, seed: &[&str]| {
-        let mut args = vec![
-            "steer",
-            "builtin",
-            "--direction",
-            direction,
-            "--response",
-            "soft",
-            "--json",
-        ];
-        args.extend_from_slice(seed);
+    let run = |scene: &[&str], direction: &str, extra: &[&str]| {
+        let mut args = vec!["steer"];
+        args.extend_from_slice(scene);
+        args.extend(["--direction", direction, "--json"]);
+        args.extend_from_slice(extra);
         let mut v = json(&args);
         for timing in ["step_us_median", "step_us_p99"] {
             v[timing] = serde_json::Value::Null;
         }
         v
     };
-    let of = run("2/8", &[]);
-    assert_eq!(of, run(&vector, &["--seed", "3"]));
-    assert_ne!(of["direction"], run("3/8", &[])["direction"]);
+    let builtin = ["builtin"];
+    let of = run(&builtin, "3/8", &[]);
+    assert_eq!(of, run(&builtin, &vector, &[]));
+    assert_ne!(of["direction"], run(&builtin, "2/8", &[])["direction"]);
+    // The seed shows in the start's torsion turns, so a drug with
+    // rotatable bonds, flexible (its seeds 3, 4 and 1 turn them
+    // differently).
+    let Some(dir) = common::shared_pdb() else {
+        return;
+    };
+    let file = dir.join("6xg5_tmp_prepared.pdb");
+    let top = [file.to_str().expect("path"), "--ligand", "TOP"];
+    let flexible = ["--flexible", "--response", "pass"];
+    let of = run(&top, "3/8", &flexible);
+    let seeded = |seed: &str| {
+        let mut extra = flexible.to_vec();
+        extra.extend(["--seed", seed]);
+        run(&top, &vector, &extra)
+    };
+    assert_eq!(of, seeded("4"));
+    assert_ne!(of["start_torsions"], seeded("3")["start_torsions"], "{of}");
+    assert_ne!(of["start_torsions"], seeded("1")["start_torsions"], "{of}");
     // An explicit seed still wins.
-    assert_eq!(run("2/8", &["--seed", "1"]), run(&vector, &[]));
+    let mut extra = flexible.to_vec();
+    extra.extend(["--seed", "1"]);
+    assert_eq!(run(&top, "3/8", &extra), seeded("1"));
 }
 
 /// `bump steer --json` of the drug `ligand` split from `file`, flexible,
