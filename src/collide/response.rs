@@ -210,25 +210,8 @@ pub(super) fn slide(
         // Pure pushes slide without turning; motions that turn project the
         // twist with rotations weighted by the drug's size, i.e. in the
         // coordinates u = (v, L·ω), so sliding does not become spinning.
-        let translate_only = screw.angle() == 0.0;
         let l = drug.extent.max(1.0);
-        let mut rows: Vec<[f64; 6]> = r
-            .contacts
-            .iter()
-            .filter_map(|p| {
-                let x = r
-                    .pose
-                    .transform_point(drug.local[p.drug as usize].as_dvec3());
-                let q = collider.atom_position(p.receptor).as_dvec3();
-                let n = (x - q).try_normalize()?;
-                let rn = if translate_only {
-                    DVec3::ZERO
-                } else {
-                    (x - centre).cross(n) / l
-                };
-                Some([n.x, n.y, n.z, rn.x, rn.y, rn.z])
-            })
-            .collect();
+        let mut rows = contact_rows(collider, drug, &r.pose, &r.contacts, screw.angle() != 0.0);
         let x = [v.x, v.y, v.z, w.x * l, w.y * l, w.z * l];
         let push = *push.get_or_insert(x);
         rows.push(push);
@@ -265,6 +248,38 @@ pub(super) fn slide(
     out.start_colliding = start_colliding;
     out.via = via;
     out
+}
+
+/// The pairs in `contacts` as rows of the cone of motions that move none of
+/// them closer ([`project_onto_cone`]), for the drug at `pose` moved by a
+/// twist about its centre in the coordinates `(v, L·ω)`, `L` the drug's
+/// extent: each row is the pair's normal `n` (from the receptor atom to the
+/// drug atom) and, for a motion that `turns`, the lever `(x − c) × n / L`
+/// of the drug atom `x` about the centre `c` (zero for a pure push, so that
+/// sliding does not become spinning).
+pub(super) fn contact_rows(
+    collider: &Collider,
+    drug: &DrugAtoms,
+    pose: &Pose,
+    contacts: &[Pair],
+    turns: bool,
+) -> Vec<[f64; 6]> {
+    let centre = pose.translation;
+    let l = drug.extent.max(1.0);
+    contacts
+        .iter()
+        .filter_map(|p| {
+            let x = pose.transform_point(drug.local[p.drug as usize].as_dvec3());
+            let q = collider.atom_position(p.receptor).as_dvec3();
+            let n = (x - q).try_normalize()?;
+            let rn = if turns {
+                (x - centre).cross(n) / l
+            } else {
+                DVec3::ZERO
+            };
+            Some([n.x, n.y, n.z, rn.x, rn.y, rn.z])
+        })
+        .collect()
 }
 
 fn dot6(a: &[f64; 6], b: &[f64; 6]) -> f64 {

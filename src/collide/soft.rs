@@ -55,7 +55,7 @@ use super::body_shape::BodyShape;
 use super::check::{Pair, pairs_within};
 use super::collider::{Collider, ColliderKind};
 use super::drug::DrugAtoms;
-use super::response::{Response, StepResult, project_onto_cone, slide};
+use super::response::{Response, StepResult, contact_rows, project_onto_cone, slide};
 use super::rule::{ContactRule, RuleError};
 use super::sweep::TouchOptions;
 use crate::model::Molecule;
@@ -367,22 +367,8 @@ fn resisted(
     let centre = start.translation;
     let v = screw.velocity_at(centre);
     let w = screw.axis() * screw.angle();
-    let translate_only = screw.angle() == 0.0;
     let l = drug.extent.max(1.0);
-    let rows: Vec<[f64; 6]> = pressed
-        .iter()
-        .filter_map(|p| {
-            let x = start.transform_point(drug.local[p.drug as usize].as_dvec3());
-            let q = collider.atom_position(p.receptor).as_dvec3();
-            let n = (x - q).try_normalize()?;
-            let rn = if translate_only {
-                DVec3::ZERO
-            } else {
-                (x - centre).cross(n) / l
-            };
-            Some([n.x, n.y, n.z, rn.x, rn.y, rn.z])
-        })
-        .collect();
+    let rows = contact_rows(collider, drug, start, pressed, screw.angle() != 0.0);
     let x = [v.x, v.y, v.z, w.x * l, w.y * l, w.z * l];
     let free = project_onto_cone(x, &rows);
     let u: [f64; 6] = std::array::from_fn(|i| free[i] + k * (x[i] - free[i]));

@@ -150,15 +150,19 @@ impl Gamepads {
         out
     }
 
-    /// A short rumble on every connected controller that supports it.
-    /// Returns a message when it fails (once; then rumble stays off).
-    pub fn rumble(&mut self) -> Option<String> {
-        let ids: Vec<GamepadId> = self
-            .gilrs
+    /// The connected controllers that can rumble.
+    fn rumbling_pads(&self) -> Vec<GamepadId> {
+        self.gilrs
             .gamepads()
             .filter(|(_, g)| g.is_ff_supported())
             .map(|(id, _)| id)
-            .collect();
+            .collect()
+    }
+
+    /// A short rumble on every connected controller that supports it.
+    /// Returns a message when it fails (once; then rumble stays off).
+    pub fn rumble(&mut self) -> Option<String> {
+        let ids = self.rumbling_pads();
         if ids.is_empty() {
             return None;
         }
@@ -197,12 +201,7 @@ impl Gamepads {
         if level == 0 {
             return None;
         }
-        let ids: Vec<GamepadId> = self
-            .gilrs
-            .gamepads()
-            .filter(|(_, g)| g.is_ff_supported())
-            .map(|(id, _)| id)
-            .collect();
+        let ids = self.rumbling_pads();
         if ids.is_empty() {
             return None;
         }

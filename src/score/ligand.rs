@@ -241,6 +241,16 @@ impl Ligand {
         self.torsion_fragment[k] as usize
     }
 
+    /// Rotatable bond `k`'s axis with the atoms at `x`: its parent atom and
+    /// the unit direction from there to its child atom.
+    pub fn torsion_axis(&self, k: usize, x: &[DVec3]) -> (DVec3, DVec3) {
+        let [pa, pb] = self.fragments[self.torsion_fragment(k)]
+            .bond
+            .unwrap_or([0, 0]);
+        let o = x[pa as usize];
+        (o, (x[pb as usize] - o).normalize_or_zero())
+    }
+
     /// The loaded conformation at `pose`.
     pub fn rigid(&self, pose: Pose) -> Conformation {
         Conformation::rigid(pose, self.torsions())

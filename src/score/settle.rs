@@ -544,13 +544,7 @@ impl<'r, 'l, 'c> Run<'r, 'l, 'c> {
             if d == 0.0 {
                 continue;
             }
-            let [pa, pb] = lig.fragments[lig.torsion_fragment(k)]
-                .bond
-                .unwrap_or([0, 0]);
-            let (o, u) = (
-                xa[pa as usize],
-                (xa[pb as usize] - xa[pa as usize]).normalize_or_zero(),
-            );
+            let (o, u) = lig.torsion_axis(k, xa);
             for &i in &self.moving[k] {
                 let v = xa[i as usize] - o;
                 travel[i as usize] += d.abs() * (v - u * v.dot(u)).length();
@@ -619,13 +613,7 @@ impl<'r, 'l, 'c> Run<'r, 'l, 'c> {
             if d == 0.0 {
                 continue;
             }
-            let [pa, pb] = lig.fragments[lig.torsion_fragment(k)]
-                .bond
-                .unwrap_or([0, 0]);
-            let (o, u) = (
-                x[pa as usize],
-                (x[pb as usize] - x[pa as usize]).normalize_or_zero(),
-            );
+            let (o, u) = lig.torsion_axis(k, &x);
             let moving = &self.moving[k];
             // Drug pairs across the bond.
             for p in &self.contacts.inner {
