@@ -722,7 +722,7 @@ fn steer_starts_with_the_drugs_own_atoms_clear_of_each_other() {
     // `slide` presses nothing.
     let file = dir.join("4dfr.pdb");
     let file = file.to_str().expect("path");
-    let direction = "0.3797986477904189,0.78125,0.4953800809848628";
+    let direction = "3/32";
     let run = |response: &str| steer_flexible(file, "MTX", direction, 4, response, &["--settle"]);
     let soft = run("soft");
     let t = turns(&soft);
@@ -763,7 +763,7 @@ fn steer_escape_runs_from_the_file_pose_out_to_the_start() {
     };
     let file = dir.join("4dfr.pdb");
     let file = file.to_str().expect("path");
-    let direction = "0.3797986477904189,0.78125,0.4953800809848628";
+    let direction = "3/32";
     let num = |v: &serde_json::Value, k: &str| v[k].as_f64().expect(k);
     let free = steer_flexible(file, "MTX", direction, 4, "pass", &["--escape"]);
     assert_eq!(free["escape"], true, "{free}");
