@@ -56,6 +56,7 @@ pub mod collide;
 pub mod input;
 pub mod model;
 pub mod motion;
+pub mod pocket;
 #[cfg(feature = "app")]
 pub mod render;
 pub mod rng;

@@ -10,6 +10,7 @@ macro_rules! outln {
 mod check;
 #[cfg(feature = "app")]
 mod devices;
+mod pockets;
 #[cfg(feature = "app")]
 mod render;
 mod report;
@@ -49,6 +50,8 @@ enum Command {
     Score(score::ScoreArgs),
     /// Minimise the score from the pose without ever colliding (Vina's optimize).
     Settle(settle::SettleArgs),
+    /// The receptor's candidate binding pockets, ranked, with docking boxes.
+    Pockets(pockets::PocketsArgs),
     /// Steer the drug from outside towards its file pose through a response.
     Steer(steer::SteerArgs),
     /// Atoms per grid cell (the thesis's Table 1) for real files.
@@ -84,6 +87,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Settle(a)) => settle::run(&a),
         Some(Command::Stats(a)) => stats::run(&a),
         Some(Command::Steer(a)) => steer::run(&a),
+        Some(Command::Pockets(a)) => pockets::run(&a),
         #[cfg(feature = "app")]
         Some(Command::Render(a)) => render::run(&a),
         #[cfg(feature = "app")]
