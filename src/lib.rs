@@ -53,6 +53,7 @@
 pub mod app;
 pub mod chem;
 pub mod collide;
+pub mod dock;
 pub mod input;
 pub mod model;
 pub mod motion;

@@ -10,6 +10,7 @@ macro_rules! outln {
 mod check;
 #[cfg(feature = "app")]
 mod devices;
+mod dock;
 mod pockets;
 #[cfg(feature = "app")]
 mod render;
@@ -50,6 +51,8 @@ enum Command {
     Score(score::ScoreArgs),
     /// Minimise the score from the pose without ever colliding (Vina's optimize).
     Settle(settle::SettleArgs),
+    /// Dock the drug in a box: a global search, every pose collision-free.
+    Dock(dock::DockArgs),
     /// The receptor's candidate binding pockets, ranked, with docking boxes.
     Pockets(pockets::PocketsArgs),
     /// Steer the drug from outside towards its file pose through a response.
@@ -88,6 +91,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Stats(a)) => stats::run(&a),
         Some(Command::Steer(a)) => steer::run(&a),
         Some(Command::Pockets(a)) => pockets::run(&a),
+        Some(Command::Dock(a)) => dock::run(&a),
         #[cfg(feature = "app")]
         Some(Command::Render(a)) => render::run(&a),
         #[cfg(feature = "app")]

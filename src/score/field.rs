@@ -234,6 +234,65 @@ pub fn energy_gradient<F: Field + ?Sized>(
     Energies { inter, intra }
 }
 
+/// [`energy_gradient`] with Vina's curl at other caps: each atom's
+/// intermolecular energy curled with `inter_cap` and each intramolecular
+/// pair's with `intra_cap` (`e·v/(v + e)` for `e > 0`), as Vina's Monte
+/// Carlo minimises (its `hunt_cap`, 1.5 and 10), so that overlaps cost
+/// little while the search looks for a basin; 1000 for both is
+/// [`energy_gradient`].
+pub fn energy_gradient_capped<F: Field + ?Sized>(
+    field: &F,
+    lig: &Ligand,
+    conf: &Conformation,
+    ws: &mut Workspace,
+    grad: &mut Gradient,
+    (inter_cap, intra_cap): (f64, f64),
+) -> Energies {
+    let curl_v = |e: f64, v: f64| -> (f64, f64) {
+        if e > 0.0 {
+            let t = v / (v + e);
+            (e * t, t * t)
+        } else {
+            (e, 1.0)
+        }
+    };
+    lig.place_into(conf, &mut ws.frames, &mut ws.positions);
+    let x = &ws.positions;
+    ws.gradients.clear();
+    ws.gradients.resize(x.len(), DVec3::ZERO);
+    let g = &mut ws.gradients;
+    gather_scored(lig, x, &mut ws.scored_at);
+    ws.inter.clear();
+    ws.inter.resize(lig.xs.len(), (0.0, DVec3::ZERO));
+    field.atoms_energy_gradient(&lig.xs, &ws.scored_at, &mut ws.inter);
+    let mut inter = 0.0;
+    for (&i, &(e, de)) in lig.scored.iter().zip(&ws.inter) {
+        let (e, s) = curl_v(e, inter_cap);
+        inter += e;
+        g[i as usize] += de * s;
+    }
+    let table = field.table();
+    let mut intra = 0.0;
+    for &[a, b] in &lig.pairs {
+        let (i, j) = (
+            lig.scored[a as usize] as usize,
+            lig.scored[b as usize] as usize,
+        );
+        let d = x[i] - x[j];
+        let r2 = d.length_squared();
+        if r2 < CUTOFF2 {
+            let (e, de) = smooth_at(table.smooth_row(lig.xs[a as usize], lig.xs[b as usize]), r2);
+            let (e, s) = curl_v(e, intra_cap);
+            intra += e;
+            let f = d * (2.0 * de * s);
+            g[i] += f;
+            g[j] -= f;
+        }
+    }
+    lig.gradient(conf, x, g, &mut ws.tree, grad);
+    Energies { inter, intra }
+}
+
 /// The continuous intramolecular energy of the heavy atoms at `x`, its
 /// gradient added into `g` (per heavy atom).
 fn intra_gradient(table: &Table, lig: &Ligand, x: &[DVec3], g: &mut [DVec3]) -> f64 {

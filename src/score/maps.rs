@@ -584,6 +584,14 @@ impl Maps {
         &self.lattice
     }
 
+    /// Bytes the maps' values take.
+    pub fn bytes(&self) -> usize {
+        self.quads
+            .iter()
+            .map(|q| std::mem::size_of_val(q.as_slice()))
+            .sum()
+    }
+
     /// The types mapped.
     pub fn types(&self) -> &[XsType] {
         &self.types

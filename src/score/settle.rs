@@ -408,7 +408,7 @@ pub fn rmsd(a: &[DVec3], b: &[DVec3]) -> f64 {
 }
 
 /// The conformation `x ⊕ α p` (translation, rotation vector, torsions).
-fn stepped(x: &Conformation, p: &[f64], alpha: f64) -> Conformation {
+pub(crate) fn stepped(x: &Conformation, p: &[f64], alpha: f64) -> Conformation {
     let t = DVec3::new(p[0], p[1], p[2]) * alpha;
     let w = DVec3::new(p[3], p[4], p[5]) * alpha;
     let rotation = (DQuat::from_scaled_axis(w) * x.pose.rotation).normalize();
@@ -435,14 +435,14 @@ fn wrap(a: f64) -> f64 {
 }
 
 /// The gradient as one vector: translation, rotation, torsions.
-fn flat(g: &Gradient, out: &mut Vec<f64>) {
+pub(crate) fn flat(g: &Gradient, out: &mut Vec<f64>) {
     out.clear();
     out.extend(g.translation.to_array());
     out.extend(g.rotation.to_array());
     out.extend(&g.torsions);
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
@@ -891,7 +891,7 @@ fn moving_atoms(lig: &Ligand, k: usize) -> Vec<u32> {
 /// The quasi-Newton direction `-H g` and its slope `p · g`, or steepest
 /// descent (with `h` reset) when that is not a descent direction; `None`
 /// when neither descends.
-fn descent(h: &mut Vec<f64>, g: &[f64], n: usize) -> Option<(Vec<f64>, f64)> {
+pub(crate) fn descent(h: &mut Vec<f64>, g: &[f64], n: usize) -> Option<(Vec<f64>, f64)> {
     let p: Vec<f64> = (0..n).map(|i| -dot(&h[i * n..(i + 1) * n], g)).collect();
     let pg = dot(&p, g);
     if pg < 0.0 {
@@ -903,7 +903,7 @@ fn descent(h: &mut Vec<f64>, g: &[f64], n: usize) -> Option<(Vec<f64>, f64)> {
     (pg < 0.0).then_some((p, pg))
 }
 
-fn identity(n: usize) -> Vec<f64> {
+pub(crate) fn identity(n: usize) -> Vec<f64> {
     let mut h = vec![0.0; n * n];
     for i in 0..n {
         h[i * n + i] = 1.0;
@@ -913,7 +913,7 @@ fn identity(n: usize) -> Vec<f64> {
 
 /// Vina's BFGS update of the inverse Hessian `h` (row-major, symmetric) with
 /// step `s` and gradient change `y`; the first step scales `h` first.
-fn bfgs_update(h: &mut [f64], s: &[f64], y: &[f64], first: bool) {
+pub(crate) fn bfgs_update(h: &mut [f64], s: &[f64], y: &[f64], first: bool) {
     let n = s.len();
     let ys = dot(y, s);
     let yy = dot(y, y);

@@ -64,6 +64,17 @@ pub fn load_sdf(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
     Ok(loaded)
 }
 
+/// How many records an SDF file holds (plain or gzipped).
+///
+/// # Errors
+/// [`LoadError::Io`] for an unreadable file.
+pub fn record_count(path: &Path, opts: &LoadOptions) -> Result<usize, LoadError> {
+    let bytes = read_bytes(path, opts.max_decompressed())?;
+    let text = String::from_utf8_lossy(&bytes);
+    let lines: Vec<&str> = crate::text::lines::split_str(&text).collect();
+    Ok(split_records(&lines).len())
+}
+
 /// Parses SDF text already in memory. `path_label` names the source in
 /// messages; its last path component becomes [`Structure::name`](super::Structure::name).
 ///
