@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use bump::chem::symmetry::{heavy_swaps, rmsd_over};
-use bump::dock::{DockError, DockOptions, Docking, Target, dock, output};
+use bump::dock::{DockError, DockOptions, DockedPose, Target, dock, output};
 use bump::model::{self, LoadOptions, Molecule, receptor_only, write};
 use bump::pocket::{DockBox, PocketOptions, find_pockets};
 use bump::score::{Evaluator, Exact, Ligand, prepare, score};
@@ -192,7 +192,7 @@ fn resolve_box(
         ("--min-size", args.min_size),
         ("--radius", args.radius),
     ] {
-        if !v.is_finite() || v < 0.0 || v > 100.0 {
+        if !(0.0..=100.0).contains(&v) {
             bail!("{name} {v}: expected 0 to 100 Å");
         }
     }
@@ -257,16 +257,14 @@ fn reference_atoms(path: &Path, drug: &Molecule) -> anyhow::Result<Vec<DVec3>> {
 }
 
 fn pose_out(
-    d: &Docking,
-    k: usize,
+    p: &DockedPose,
     lig: &Ligand,
     exact: &Exact<'_>,
     receptor: &Molecule,
     drug: &Molecule,
     reference: Option<&(Vec<DVec3>, Vec<Vec<u32>>)>,
-    centre: DVec3,
 ) -> PoseOut {
-    let p = &d.poses[k];
+    let centre = receptor.centre;
     let s = score(exact, Evaluator::Exact, exact, lig, &p.conf);
     let name = |m: &Molecule, i: u32| {
         m.atoms.get(i as usize).map_or(String::new(), |a| {
@@ -471,19 +469,10 @@ pub fn run(args: &DockArgs) -> anyhow::Result<()> {
             refined: d.refined,
             dropped_colliding: d.dropped_colliding,
             maps_mb: d.maps_bytes as f64 / 1e6,
-            poses: (0..d.poses.len())
-                .map(|k| {
-                    pose_out(
-                        &d,
-                        k,
-                        &lig,
-                        &exact,
-                        &scene.receptor,
-                        &drug,
-                        reference.as_ref(),
-                        centre,
-                    )
-                })
+            poses: d
+                .poses
+                .iter()
+                .map(|p| pose_out(p, &lig, &exact, &scene.receptor, &drug, reference.as_ref()))
                 .collect(),
         });
         if let Some(b) = &bar {

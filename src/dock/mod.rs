@@ -205,6 +205,7 @@ pub fn steps_for(atoms: usize, torsions: usize, effort: f64) -> ChainOptions {
     ChainOptions {
         steps: ((vina * STEP_FRACTION * effort).ceil() as usize).max(1),
         local_steps: local,
+        wall: (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY)),
     }
 }
 
@@ -239,7 +240,8 @@ pub fn span(points: &[DVec3]) -> f64 {
 /// Checks the box against the receptor and the drug.
 fn check_box(target: &Target<'_>, lig: &Ligand, bx: &DockBox) -> Result<(), DockError> {
     let edge_ok = |v: f64| v.is_finite() && v > 0.0 && v <= MAX_BOX_EDGE;
-    if !(edge_ok(bx.size.x) && edge_ok(bx.size.y) && edge_ok(bx.size.z)) || !bx.centre.is_finite() {
+    let sized = edge_ok(bx.size.x) && edge_ok(bx.size.y) && edge_ok(bx.size.z);
+    if !(sized && bx.centre.is_finite()) {
         return Err(DockError::Option {
             name: "box size",
             value: format!("{:?}", bx.size.to_array()),
@@ -369,6 +371,7 @@ fn search_and_refine(
         None => Starts::Box { lo, hi },
     };
     let mut chain_opts = steps_for(lig.len(), lig.torsions(), opts.effort);
+    chain_opts.wall = (lo, hi);
     chain_opts.steps = chain_opts.steps.div_ceil(CHAINS_PER_EXHAUSTIVENESS);
     let chains: Vec<_> = (0..opts.exhaustiveness * CHAINS_PER_EXHAUSTIVENESS)
         .into_par_iter()
@@ -377,7 +380,6 @@ fn search_and_refine(
                 &field,
                 lig,
                 &starts,
-                (lo, hi),
                 k,
                 chain_rng(opts.seed, k),
                 &chain_opts,

@@ -156,6 +156,8 @@ pub struct ChainOptions {
     pub steps: usize,
     /// BFGS steps of each step's minimisation.
     pub local_steps: usize,
+    /// The box's lowest and highest corner (receptor frame): the wall.
+    pub wall: (DVec3, DVec3),
 }
 
 /// Runs one chain: see the module docs.
@@ -163,13 +165,12 @@ pub fn run_chain<F: Field + ?Sized>(
     field: &F,
     lig: &Ligand,
     starts: &Starts,
-    (lo, hi): (DVec3, DVec3),
     chain: usize,
     mut rng: Rng,
     opts: &ChainOptions,
     cancel: Option<&AtomicBool>,
 ) -> ChainResult {
-    let mut obj = Objective::new(field, lig, lo, hi);
+    let mut obj = Objective::new(field, lig, opts.wall.0, opts.wall.1);
     let torsions = lig.torsions();
     let gyration = (lig.local.iter().map(|p| p.length_squared()).sum::<f64>()
         / lig.len().max(1) as f64)
