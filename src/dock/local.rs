@@ -5,7 +5,7 @@
 //! What is minimised is the continuous `inter + intra` ([`energy_gradient`])
 //! plus [`BOX_WALL`] kcal/mol for every Å a heavy atom lies outside the box,
 //! along each axis (Vina's grid cache charges atoms outside its grid the same
-//! way, more steeply). The steps are settle's ([`crate::score::settle`]):
+//! way, more steeply). The steps are settle's ([`mod@crate::score::settle`]):
 //! the inverse Hessian starts as the identity and is scaled after the first
 //! step; each line search halves `α` up to ten times until Armijo's condition
 //! holds, from the `α` at which no atom travels more than [`MAX_TRAVEL`].
