@@ -373,12 +373,14 @@ pub fn find_pockets(receptor: &Molecule, opts: &PocketOptions) -> Result<Vec<Poc
         })
         .collect();
     // Kept points, as lattice index → their buriedness.
-    let mut kept = vec![f64::NAN; lattice.len()];
-    for (&i, &b) in probes.iter().zip(&buried) {
-        if b >= opts.min_buriedness {
-            kept[i] = b;
-        }
-    }
+    let kept = Kept(
+        probes
+            .iter()
+            .zip(&buried)
+            .filter(|(_, b)| **b >= opts.min_buriedness)
+            .map(|(&i, &b)| (i, b))
+            .collect(),
+    );
     let clusters = cluster(&lattice, &kept);
     let clusters: Vec<Vec<usize>> = clusters
         .into_iter()
@@ -387,7 +389,7 @@ pub fn find_pockets(receptor: &Molecule, opts: &PocketOptions) -> Result<Vec<Poc
     let mut pockets: Vec<Pocket> = clusters
         .into_iter()
         .filter(|c| c.len() >= opts.min_points)
-        .map(|c| pocket_of(&lattice, &kept, &c, &pos, &atoms, receptor, opts))
+        .map(|c| pocket_of(&lattice, &kept, &c, opts))
         .collect();
     pockets.sort_by(|a, b| {
         b.score
@@ -395,8 +397,11 @@ pub fn find_pockets(receptor: &Molecule, opts: &PocketOptions) -> Result<Vec<Poc
             .then(a.points[0].x.total_cmp(&b.points[0].x))
     });
     pockets.truncate(opts.max_pockets);
+    let reach = opts.probe_clearance + 1.5;
+    let atom_grid = Near::new(&pos, reach);
     for (k, p) in pockets.iter_mut().enumerate() {
         p.rank = k + 1;
+        p.residues = lining(p, &atom_grid, &atoms, receptor);
         // Back to file coordinates.
         let c = receptor.centre;
         p.centre += c;
@@ -406,18 +411,35 @@ pub fn find_pockets(receptor: &Molecule, opts: &PocketOptions) -> Result<Vec<Poc
     Ok(pockets)
 }
 
-/// The clusters of kept points (`kept[i]` not NaN) joined through their 26
-/// neighbours, each in lattice order, in order of their first point.
-fn cluster(lattice: &Lattice, kept: &[f64]) -> Vec<Vec<usize>> {
-    let mut seen = vec![false; kept.len()];
+/// The probe points buried enough to be in a pocket: (lattice index,
+/// buriedness), in lattice order. Kept apart from the lattice, whose size
+/// is the receptor's box, so that memory follows the points kept.
+struct Kept(Vec<(usize, f64)>);
+
+impl Kept {
+    /// The position in the list of lattice point `i`, if kept.
+    fn slot(&self, i: usize) -> Option<usize> {
+        self.0.binary_search_by_key(&i, |k| k.0).ok()
+    }
+
+    /// The buriedness of lattice point `i` (kept).
+    fn of(&self, i: usize) -> f64 {
+        self.slot(i).map_or(0.0, |k| self.0[k].1)
+    }
+}
+
+/// The clusters of kept points joined through their 26 neighbours, each in
+/// lattice order, in order of their first point.
+fn cluster(lattice: &Lattice, kept: &Kept) -> Vec<Vec<usize>> {
+    let mut seen = vec![false; kept.0.len()];
     let mut out = Vec::new();
     let [nx, ny, nz] = lattice.n;
-    for start in 0..kept.len() {
-        if seen[start] || kept[start].is_nan() {
+    for first in 0..kept.0.len() {
+        if seen[first] {
             continue;
         }
-        seen[start] = true;
-        let mut stack = vec![start];
+        seen[first] = true;
+        let mut stack = vec![kept.0[first].0];
         let mut members = Vec::new();
         while let Some(i) = stack.pop() {
             members.push(i);
@@ -426,18 +448,20 @@ fn cluster(lattice: &Lattice, kept: &[f64]) -> Vec<Vec<usize>> {
                 for dy in -1i64..=1 {
                     for dx in -1i64..=1 {
                         let (a, b, c) = (x as i64 + dx, y as i64 + dy, z as i64 + dz);
-                        if a < 0
+                        let outside = a < 0
                             || b < 0
                             || c < 0
                             || a >= nx as i64
                             || b >= ny as i64
-                            || c >= nz as i64
-                        {
+                            || c >= nz as i64;
+                        if outside {
                             continue;
                         }
                         let j = lattice.index(a as usize, b as usize, c as usize);
-                        if !seen[j] && !kept[j].is_nan() {
-                            seen[j] = true;
+                        if let Some(k) = kept.slot(j)
+                            && !seen[k]
+                        {
+                            seen[k] = true;
                             stack.push(j);
                         }
                     }
@@ -450,12 +474,38 @@ fn cluster(lattice: &Lattice, kept: &[f64]) -> Vec<Vec<usize>> {
     out
 }
 
+/// The residues with an atom within the grid's radius of one of `p`'s
+/// points (receptor frame), sorted.
+fn lining(p: &Pocket, grid: &Near<'_>, atoms: &[usize], receptor: &Molecule) -> Vec<Residue> {
+    let mut near = Vec::new();
+    for q in &p.points {
+        grid.within(*q, |j| near.push(j));
+    }
+    near.sort_unstable();
+    near.dedup();
+    let mut residues: Vec<Residue> = near
+        .into_iter()
+        .map(|j| {
+            let a = &receptor.atoms[atoms[j]];
+            Residue {
+                chain: a.chain.to_string(),
+                seq: a.seq,
+                insertion: a.insertion.to_string().trim().to_string(),
+                name: a.residue.to_string(),
+            }
+        })
+        .collect();
+    residues.sort();
+    residues.dedup();
+    residues
+}
+
 /// `members` cut into parts of at most `radius` about their densest
 /// points: the densest point (the most buriedness within [`CORE_RADIUS`])
 /// takes every point within `radius` of it, and so on with what is left.
 fn split_cluster(
     lattice: &Lattice,
-    kept: &[f64],
+    kept: &Kept,
     members: Vec<usize>,
     radius: f64,
 ) -> Vec<Vec<usize>> {
@@ -465,7 +515,7 @@ fn split_cluster(
         .iter()
         .map(|p| {
             let mut sum = 0.0;
-            grid.within(*p, |j| sum += kept[members[j]]);
+            grid.within(*p, |j| sum += kept.of(members[j]));
             sum
         })
         .collect();
@@ -473,17 +523,18 @@ fn split_cluster(
     order.sort_by(|&a, &b| density[b].total_cmp(&density[a]).then(a.cmp(&b)));
     let mut taken = vec![false; points.len()];
     let mut out = Vec::new();
-    let r2 = radius * radius;
+    let parts = Near::new(&points, radius);
     for &seed in &order {
         if taken[seed] {
             continue;
         }
-        let mut part: Vec<usize> = (0..points.len())
-            .filter(|&j| !taken[j] && (points[j] - points[seed]).length_squared() <= r2)
-            .collect();
-        for &j in &part {
-            taken[j] = true;
-        }
+        let mut part = Vec::new();
+        parts.within(points[seed], |j| {
+            if !taken[j] {
+                taken[j] = true;
+                part.push(j);
+            }
+        });
         part.sort_unstable();
         out.push(part.into_iter().map(|j| members[j]).collect());
     }
@@ -491,17 +542,9 @@ fn split_cluster(
 }
 
 /// The pocket of the cluster `members`.
-fn pocket_of(
-    lattice: &Lattice,
-    kept: &[f64],
-    members: &[usize],
-    pos: &[DVec3],
-    atoms: &[usize],
-    receptor: &Molecule,
-    opts: &PocketOptions,
-) -> Pocket {
+fn pocket_of(lattice: &Lattice, kept: &Kept, members: &[usize], opts: &PocketOptions) -> Pocket {
     let points: Vec<DVec3> = members.iter().map(|&i| lattice.point(i)).collect();
-    let b: Vec<f64> = members.iter().map(|&i| kept[i]).collect();
+    let b: Vec<f64> = members.iter().map(|&i| kept.of(i)).collect();
     // Deep points count for more than shallow ones: a big shallow groove
     // must not outrank a small deep pocket.
     let step = 1.0 / opts.rays as f64;
@@ -522,40 +565,13 @@ fn pocket_of(
     }
     let centre = points[best.1];
     let (lo, hi) = extent(&points).unwrap_or((centre, centre));
-    let size = (hi - lo + DVec3::splat(2.0 * opts.box_pad))
+    let padded = hi - lo + DVec3::splat(2.0 * opts.box_pad);
+    let size = padded
         .max(DVec3::splat(opts.box_min))
         .min(DVec3::splat(opts.box_max));
-    // Centred on the extent, or on the centre where the extent is cut.
-    let mid = (lo + hi) / 2.0;
-    let half = size / 2.0;
-    let box_centre = mid.clamp(centre - half + opts.box_pad, centre + half - opts.box_pad);
-    let box_centre = DVec3::select(
-        (hi - lo + DVec3::splat(2.0 * opts.box_pad)).cmpgt(size),
-        box_centre,
-        mid,
-    );
-    let reach = opts.probe_clearance + 1.5;
-    let agrid = Near::new(pos, reach);
-    let mut lining = vec![false; pos.len()];
-    for p in &points {
-        agrid.within(*p, |j| lining[j] = true);
-    }
-    let mut residues: Vec<Residue> = lining
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| **l)
-        .map(|(j, _)| {
-            let a = &receptor.atoms[atoms[j]];
-            Residue {
-                chain: a.chain.to_string(),
-                seq: a.seq,
-                insertion: a.insertion.to_string().trim().to_string(),
-                name: a.residue.to_string(),
-            }
-        })
-        .collect();
-    residues.sort();
-    residues.dedup();
+    // Centred on the extent where it fits, on the densest point along an
+    // axis where the box cuts it.
+    let box_centre = DVec3::select(padded.cmpgt(size), centre, (lo + hi) / 2.0);
     Pocket {
         rank: 0,
         score,
@@ -566,7 +582,7 @@ fn pocket_of(
         },
         volume: points.len() as f64 * lattice.h.powi(3),
         buriedness,
-        residues,
+        residues: Vec::new(),
         points,
     }
 }

@@ -19,7 +19,7 @@
 use glam::{DMat3, DVec3};
 use wide::f32x4;
 
-use super::function::{CUTOFF2, curl, curl_with_slope};
+use super::function::{CURL_CAP, CUTOFF2, curl, curl_capped_with_slope, curl_with_slope};
 use super::ligand::{Conformation, Gradient, Ligand};
 use super::table::{Table, index, smooth_at};
 use crate::chem::XsType;
@@ -214,32 +214,16 @@ pub fn energy_gradient<F: Field + ?Sized>(
     ws: &mut Workspace,
     grad: &mut Gradient,
 ) -> Energies {
-    lig.place_into(conf, &mut ws.frames, &mut ws.positions);
-    let x = &ws.positions;
-    ws.gradients.clear();
-    ws.gradients.resize(x.len(), DVec3::ZERO);
-    let g = &mut ws.gradients;
-    gather_scored(lig, x, &mut ws.scored_at);
-    ws.inter.clear();
-    ws.inter.resize(lig.xs.len(), (0.0, DVec3::ZERO));
-    field.atoms_energy_gradient(&lig.xs, &ws.scored_at, &mut ws.inter);
-    let mut inter = 0.0;
-    for (&i, &(e, de)) in lig.scored.iter().zip(&ws.inter) {
-        let (e, s) = curl_with_slope(e);
-        inter += e;
-        g[i as usize] += de * s;
-    }
-    let intra = intra_gradient(field.table(), lig, x, g);
-    lig.gradient(conf, x, g, &mut ws.tree, grad);
-    Energies { inter, intra }
+    energy_gradient_capped(field, lig, conf, ws, grad, (CURL_CAP, CURL_CAP))
 }
 
 /// [`energy_gradient`] with Vina's curl at other caps: each atom's
 /// intermolecular energy curled with `inter_cap` and each intramolecular
 /// pair's with `intra_cap` (`e·v/(v + e)` for `e > 0`), as Vina's Monte
 /// Carlo minimises (its `hunt_cap`, 1.5 and 10), so that overlaps cost
-/// little while the search looks for a basin; 1000 for both is
+/// little while the search looks for a basin; [`CURL_CAP`] for both is
 /// [`energy_gradient`].
+#[inline]
 pub fn energy_gradient_capped<F: Field + ?Sized>(
     field: &F,
     lig: &Ligand,
@@ -248,14 +232,6 @@ pub fn energy_gradient_capped<F: Field + ?Sized>(
     grad: &mut Gradient,
     (inter_cap, intra_cap): (f64, f64),
 ) -> Energies {
-    let curl_v = |e: f64, v: f64| -> (f64, f64) {
-        if e > 0.0 {
-            let t = v / (v + e);
-            (e * t, t * t)
-        } else {
-            (e, 1.0)
-        }
-    };
     lig.place_into(conf, &mut ws.frames, &mut ws.positions);
     let x = &ws.positions;
     ws.gradients.clear();
@@ -267,35 +243,18 @@ pub fn energy_gradient_capped<F: Field + ?Sized>(
     field.atoms_energy_gradient(&lig.xs, &ws.scored_at, &mut ws.inter);
     let mut inter = 0.0;
     for (&i, &(e, de)) in lig.scored.iter().zip(&ws.inter) {
-        let (e, s) = curl_v(e, inter_cap);
+        let (e, s) = curl_capped_with_slope(e, inter_cap);
         inter += e;
         g[i as usize] += de * s;
     }
-    let table = field.table();
-    let mut intra = 0.0;
-    for &[a, b] in &lig.pairs {
-        let (i, j) = (
-            lig.scored[a as usize] as usize,
-            lig.scored[b as usize] as usize,
-        );
-        let d = x[i] - x[j];
-        let r2 = d.length_squared();
-        if r2 < CUTOFF2 {
-            let (e, de) = smooth_at(table.smooth_row(lig.xs[a as usize], lig.xs[b as usize]), r2);
-            let (e, s) = curl_v(e, intra_cap);
-            intra += e;
-            let f = d * (2.0 * de * s);
-            g[i] += f;
-            g[j] -= f;
-        }
-    }
+    let intra = intra_gradient(field.table(), lig, x, g, intra_cap);
     lig.gradient(conf, x, g, &mut ws.tree, grad);
     Energies { inter, intra }
 }
 
 /// The continuous intramolecular energy of the heavy atoms at `x`, its
-/// gradient added into `g` (per heavy atom).
-fn intra_gradient(table: &Table, lig: &Ligand, x: &[DVec3], g: &mut [DVec3]) -> f64 {
+/// gradient added into `g` (per heavy atom), each pair curled at `cap`.
+fn intra_gradient(table: &Table, lig: &Ligand, x: &[DVec3], g: &mut [DVec3], cap: f64) -> f64 {
     let mut intra = 0.0;
     for &[a, b] in &lig.pairs {
         let (i, j) = (
@@ -306,7 +265,7 @@ fn intra_gradient(table: &Table, lig: &Ligand, x: &[DVec3], g: &mut [DVec3]) -> 
         let r2 = d.length_squared();
         if r2 < CUTOFF2 {
             let (e, de) = smooth_at(table.smooth_row(lig.xs[a as usize], lig.xs[b as usize]), r2);
-            let (e, s) = curl_with_slope(e);
+            let (e, s) = curl_capped_with_slope(e, cap);
             intra += e;
             let f = d * (2.0 * de * s);
             g[i] += f;
@@ -370,7 +329,7 @@ impl RigidDrug {
         let intra = energies(field, lig, &conf, &mut ws).intra;
         let x = &ws.positions;
         let mut g = vec![DVec3::ZERO; x.len()];
-        let intra_continuous = intra_gradient(field.table(), lig, x, &mut g);
+        let intra_continuous = intra_gradient(field.table(), lig, x, &mut g, CURL_CAP);
         let mut held = Gradient::default();
         lig.gradient(&conf, x, &g, &mut ws.tree, &mut held);
         let mut torsion = lig.torsions();

@@ -295,17 +295,31 @@ pub fn curl(e: f64) -> f64 {
     }
 }
 
+/// Vina's cap `v` of the curl where it scores (its `authentic_v`).
+pub const CURL_CAP: f64 = 1000.0;
+
 /// The curl and its derivative `d curl / d e` (1 for `e ≤ 0`).
 #[inline]
 pub fn curl_with_slope(e: f64) -> (f64, f64) {
-    if e > 0.0 { curl_positive(e) } else { (e, 1.0) }
+    curl_capped_with_slope(e, CURL_CAP)
 }
 
-/// [`curl_with_slope`] of a positive energy: rare (an overlap), and a
-/// division, so kept off the common path.
+/// The curl at cap `v` (`e·v/(v + e)` for `e > 0`) and its derivative:
+/// Vina's Monte Carlo minimises with lower caps (its `hunt_cap`).
+#[inline]
+pub fn curl_capped_with_slope(e: f64, v: f64) -> (f64, f64) {
+    if e > 0.0 {
+        curl_positive(e, v)
+    } else {
+        (e, 1.0)
+    }
+}
+
+/// [`curl_capped_with_slope`] of a positive energy: rare (an overlap), and
+/// a division, so kept off the common path.
 #[cold]
-fn curl_positive(e: f64) -> (f64, f64) {
-    let t = 1000.0 / (1000.0 + e);
+fn curl_positive(e: f64, v: f64) -> (f64, f64) {
+    let t = v / (v + e);
     (e * t, t * t)
 }
 
