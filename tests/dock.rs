@@ -242,28 +242,34 @@ fn dock_writes_sdf_and_pdbqt_that_read_back() {
 
 #[test]
 fn shards_add_up_to_the_whole_library() {
-    let Some(pdb) = shared_pdb() else {
+    let (Some(pdb), Some(dir)) = (shared_pdb(), complex("1hnn")) else {
         return;
     };
     let tmp = std::env::temp_dir().join(format!("bump-shard-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
     let lib = tmp.join("lib.sdf");
+    // Three molecules of different types: the shared maps grow with them.
     let mut text = String::new();
     for f in [
         "benzamidine_3ptb.sdf",
-        "benzamidine_3ptb.sdf",
-        "benzamidine_3ptb.sdf",
+        "trimethoprim_top_6xg5pose.sdf",
+        "methotrexate_mtx_ideal.sdf",
     ] {
         text.push_str(&std::fs::read_to_string(pdb.join(f)).unwrap());
     }
     std::fs::write(&lib, text).unwrap();
-    let rec = pdb.join("3ptb.pdb").display().to_string();
-    let run = |shard: Option<&str>, seed: &str| {
-        let mut a = vec![
+    let (rec, xray, lib_s) = (
+        dir.join("protein.pdbqt").display().to_string(),
+        dir.join("flex-xray.pdbqt").display().to_string(),
+        lib.display().to_string(),
+    );
+    let run = |shard: Option<&str>| {
+        let mut args = vec![
             "dock",
             &rec,
-            "--ligand",
-            "BEN",
+            &lib_s,
+            "--box-from",
+            &xray,
             "--exhaustiveness",
             "1",
             "--effort",
@@ -271,25 +277,14 @@ fn shards_add_up_to_the_whole_library() {
             "--poses",
             "2",
             "--seed",
-            seed,
+            "3",
             "--json",
         ];
-        let _ = &mut a;
-        let lib_s = lib.display().to_string();
-        let mut args: Vec<String> = a.iter().map(|s| s.to_string()).collect();
-        // The library replaces the complex's own ligand.
-        args.retain(|s| s != "--ligand" && s != "BEN");
-        args.insert(2, lib_s);
         if let Some(s) = shard {
-            args.push("--shard".into());
-            args.push(s.into());
+            args.extend(["--shard", s]);
         }
-        let refs: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
-        json(&refs)
+        json(&args)
     };
-    let whole = run(None, "3");
-    let a = run(Some("0/2"), "3");
-    let b = run(Some("1/2"), "3");
     let recs = |v: &serde_json::Value| -> Vec<(u64, String)> {
         v["molecules"]
             .as_array()
@@ -298,11 +293,13 @@ fn shards_add_up_to_the_whole_library() {
             .map(|m| (m["record"].as_u64().unwrap(), m["poses"].to_string()))
             .collect()
     };
-    let mut parts = recs(&a);
-    parts.extend(recs(&b));
+    let whole = recs(&run(None));
+    let mut parts = recs(&run(Some("0/2")));
+    parts.extend(recs(&run(Some("1/2"))));
     parts.sort();
-    assert_eq!(recs(&whole).len(), 3);
-    assert_eq!(parts, recs(&whole));
+    assert_eq!(whole.len(), 3);
+    assert_eq!(whole.iter().map(|r| r.0).collect::<Vec<_>>(), [1, 2, 3]);
+    assert_eq!(parts, whole);
     let _ = std::fs::remove_dir_all(&tmp);
 }
 
@@ -354,6 +351,18 @@ fn bad_dock_input_gets_a_clear_error() {
         assert!(e.contains(says), "{extra:?}: {e}");
         assert!(!e.contains("panicked"), "{e}");
     }
+    // A ligand with no atoms.
+    let empty = std::env::temp_dir().join(format!("bump-empty-{}.sdf", std::process::id()));
+    std::fs::write(
+        &empty,
+        "empty\n  bump\n\n  0  0  0  0  0  0  0  0  0  0999 V2000\nM  END\n$$$$\n",
+    )
+    .unwrap();
+    let out = bump(&["dock", &r, &s(empty.clone()), "--pocket", "1"]);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("bump-empty") && !e.contains("panicked"), "{e}");
+    let _ = std::fs::remove_file(&empty);
     // A failed run writes no output file.
     let out_path = std::env::temp_dir().join(format!("bump-bad-{}.sdf", std::process::id()));
     let o = s(out_path.clone());

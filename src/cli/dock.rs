@@ -15,10 +15,10 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use bump::chem::symmetry::{heavy_swaps, rmsd_over};
-use bump::dock::{DockError, DockOptions, DockedPose, Target, dock, output};
+use bump::dock::{DockError, DockOptions, DockedPose, Target, box_maps, dock_on, output, validate};
 use bump::model::{self, LoadOptions, Molecule, receptor_only, write};
 use bump::pocket::{DockBox, PocketOptions, find_pockets};
-use bump::score::{Evaluator, Exact, Ligand, prepare, score};
+use bump::score::{Contacts, Evaluator, Exact, Ligand, Maps, prepare, score};
 use clap::Args;
 use glam::DVec3;
 use serde::Serialize;
@@ -236,10 +236,23 @@ fn resolve_box(
     Ok((p.dock_box, format!("pocket {k}")))
 }
 
-/// The heavy atoms of `path` in file coordinates, checked against the drug.
-fn reference_atoms(path: &Path, drug: &Molecule) -> anyhow::Result<Vec<DVec3>> {
+/// The heavy atoms of `path` in file coordinates, checked against the drug:
+/// the whole file, or, for a complex, the `--ligand` residue split from it.
+fn reference_atoms(
+    path: &Path,
+    drug: &Molecule,
+    ligand: Option<&str>,
+) -> anyhow::Result<Vec<DVec3>> {
     let m = model::load(path, &LoadOptions::default())?;
-    let r = receptor_only(&m.structure)?;
+    let whole = receptor_only(&m.structure)?;
+    let r = match ligand {
+        Some(text) if whole.len() != drug.len() => {
+            let spec = model::LigandSpec::parse(text)
+                .map_err(|e| anyhow::anyhow!("--ligand {text}: {e}"))?;
+            model::split_complex_owned(m.structure, &spec)?.1
+        }
+        _ => whole,
+    };
     let same = r.len() == drug.len()
         && r.atoms
             .iter()
@@ -258,6 +271,7 @@ fn reference_atoms(path: &Path, drug: &Molecule) -> anyhow::Result<Vec<DVec3>> {
 
 fn pose_out(
     p: &DockedPose,
+    contacts: &mut Contacts<'_>,
     lig: &Ligand,
     exact: &Exact<'_>,
     receptor: &Molecule,
@@ -297,7 +311,7 @@ fn pose_out(
                 energy: h.energy,
             })
             .collect(),
-        collides: false,
+        collides: !contacts.collisions(&p.atoms).is_empty(),
         rmsd_to_reference: reference.map(|(r, swaps)| rmsd_over(swaps, r, &world)),
         center: (p.conf.pose.translation + centre).to_array(),
         torsions_deg: p.conf.torsions.iter().map(|t| t.to_degrees()).collect(),
@@ -376,6 +390,7 @@ pub fn run(args: &DockArgs) -> anyhow::Result<()> {
     let mut molecules = Vec::new();
     let mut interrupted = false;
     let mut evaluations = 0;
+    let mut maps: Option<Maps> = None;
     for &record in &records {
         if cancel.load(Ordering::SeqCst) {
             interrupted = true;
@@ -422,28 +437,51 @@ pub fn run(args: &DockArgs) -> anyhow::Result<()> {
             ..DockOptions::default()
         };
         let t0 = Instant::now();
-        let d = match dock(&target, &drug, &lig, &dock_box, &opts) {
-            Ok(d) => d,
-            Err(DockError::Cancelled) => {
-                interrupted = true;
-                break;
-            }
-            Err(e) if records.len() > 1 => {
+        // A library shares its maps: rebuilt only for a molecule with a
+        // type they lack, for every type seen so far.
+        if let Err(e) = validate(&target, &lig, &dock_box, &opts) {
+            if records.len() > 1 {
                 eprintln!("bump: warning: {} record {record} skipped: {e}", drug.name);
                 if let Some(b) = &bar {
                     b.inc(1);
                 }
                 continue;
             }
+            return Err(e).with_context(|| format!("docking {}", drug.name));
+        }
+        let covered = maps
+            .as_ref()
+            .is_some_and(|m: &Maps| lig.xs.iter().all(|t| m.types().contains(t)));
+        if !covered {
+            let mut types = maps.as_ref().map_or(Vec::new(), |m| m.types().to_vec());
+            types.extend_from_slice(&lig.xs);
+            maps = match box_maps(&target, &types, &dock_box, &opts) {
+                Ok(m) => Some(m),
+                Err(e) => return Err(e).context("grid maps over the box"),
+            };
+        }
+        let Some(maps_now) = maps.as_ref() else {
+            bail!("no maps");
+        };
+        let d = match dock_on(&target, &drug, &lig, &dock_box, maps_now, &opts) {
+            Ok(d) => d,
+            Err(DockError::Cancelled) => {
+                interrupted = true;
+                break;
+            }
             Err(e) => return Err(e).with_context(|| format!("docking {}", drug.name)),
         };
         let elapsed_s = t0.elapsed().as_secs_f64();
         evaluations += d.evaluations;
         let reference = match &args.reference {
-            Some(p) => Some((reference_atoms(p, &drug)?, heavy_swaps(&drug))),
+            Some(p) => Some((
+                reference_atoms(p, &drug, args.scene.ligand.as_deref())?,
+                heavy_swaps(&drug),
+            )),
             None => None,
         };
         let centre = scene.receptor.centre;
+        let mut contacts = Contacts::new(scene.collider(), scene.rule, &drug, &lig);
         if want_pdbqt {
             let swaps = heavy_swaps(&drug);
             match output::pdbqt_models(&drug, &lig, &d.poses, &swaps, centre) {
@@ -472,7 +510,17 @@ pub fn run(args: &DockArgs) -> anyhow::Result<()> {
             poses: d
                 .poses
                 .iter()
-                .map(|p| pose_out(p, &lig, &exact, &scene.receptor, &drug, reference.as_ref()))
+                .map(|p| {
+                    pose_out(
+                        p,
+                        &mut contacts,
+                        &lig,
+                        &exact,
+                        &scene.receptor,
+                        &drug,
+                        reference.as_ref(),
+                    )
+                })
                 .collect(),
         });
         if let Some(b) = &bar {

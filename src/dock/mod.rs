@@ -37,6 +37,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::chem::XsType;
 use crate::chem::symmetry::{heavy_swaps, rmsd_over};
 use crate::collide::{Collider, ContactRule};
 use crate::model::Molecule;
@@ -270,7 +271,8 @@ fn check_box(target: &Target<'_>, lig: &Ligand, bx: &DockBox) -> Result<(), Dock
 }
 
 /// Docks `drug` (typed as `lig`) into `target` within `bx` (file
-/// coordinates): see the module docs.
+/// coordinates): see the module docs. Builds maps of the drug's types
+/// first ([`box_maps`]).
 ///
 /// # Errors
 /// [`DockError`] for an empty drug, a box that misses the receptor or is
@@ -283,6 +285,74 @@ pub fn dock(
     bx: &DockBox,
     opts: &DockOptions,
 ) -> Result<Docking, DockError> {
+    validate(target, lig, bx, opts)?;
+    let maps = box_maps(target, &lig.xs, bx, opts)?;
+    run_on(target, drug, lig, bx, &maps, opts)
+}
+
+/// [`dock`] on maps already built over `bx` ([`box_maps`]), as a library
+/// run shares them between its molecules; a type the maps lack is scored
+/// exactly.
+///
+/// # Errors
+/// As [`dock`].
+pub fn dock_on(
+    target: &Target<'_>,
+    drug: &Molecule,
+    lig: &Ligand,
+    bx: &DockBox,
+    maps: &Maps,
+    opts: &DockOptions,
+) -> Result<Docking, DockError> {
+    validate(target, lig, bx, opts)?;
+    run_on(target, drug, lig, bx, maps, opts)
+}
+
+/// The threads a run uses.
+fn threads(opts: &DockOptions) -> usize {
+    if opts.threads == 0 {
+        rayon::current_num_threads()
+    } else {
+        opts.threads
+    }
+}
+
+/// Maps of `types` over `bx` grown by [`MAP_MARGIN`] (receptor frame), on
+/// the run's threads.
+///
+/// # Errors
+/// [`DockError::Maps`] for a box that is no usable lattice.
+pub fn box_maps(
+    target: &Target<'_>,
+    types: &[XsType],
+    bx: &DockBox,
+    opts: &DockOptions,
+) -> Result<Maps, DockError> {
+    let map_box = MapBox {
+        centre: bx.centre - target.receptor_centre,
+        size: bx.size + 2.0 * MAP_MARGIN,
+        spacing: DEFAULT_SPACING,
+    };
+    Ok(Maps::build(
+        target.receptor,
+        opts.scoring,
+        types,
+        &map_box,
+        threads(opts),
+    )?)
+}
+
+/// Refuses what cannot be docked: an empty drug, options out of range, a
+/// box that misses the receptor, is too large or cannot hold the drug.
+///
+/// # Errors
+/// The [`DockError`] that says which.
+pub fn validate(
+    target: &Target<'_>,
+    lig: &Ligand,
+    bx: &DockBox,
+    opts: &DockOptions,
+) -> Result<(), DockError> {
     if lig.xs.is_empty() || lig.is_empty() {
         return Err(DockError::EmptyLigand);
     }
@@ -307,22 +377,23 @@ pub fn dock(
             range: "above 0 and at most 100",
         });
     }
-    check_box(target, lig, bx)?;
+    check_box(target, lig, bx)
+}
+
+/// The run itself, its inputs checked.
+fn run_on(
+    target: &Target<'_>,
+    drug: &Molecule,
+    lig: &Ligand,
+    bx: &DockBox,
+    maps: &Maps,
+    opts: &DockOptions,
+) -> Result<Docking, DockError> {
     let rel_centre = bx.centre - target.receptor_centre;
     let (lo, hi) = (rel_centre - bx.size / 2.0, rel_centre + bx.size / 2.0);
-    let map_box = MapBox {
-        centre: rel_centre,
-        size: bx.size + 2.0 * MAP_MARGIN,
-        spacing: DEFAULT_SPACING,
-    };
-    let threads = if opts.threads == 0 {
-        rayon::current_num_threads()
-    } else {
-        opts.threads
-    };
-    let maps = Maps::build(target.receptor, opts.scoring, &lig.xs, &map_box, threads)?;
+    let threads = threads(opts);
     let maps_bytes = maps.bytes();
-    let run = || search_and_refine(target, drug, lig, &maps, (lo, hi), opts);
+    let run = || search_and_refine(target, drug, lig, maps, (lo, hi), opts);
     let (minima, evaluations, settled) = if opts.threads == 0 {
         run()
     } else {
