@@ -293,7 +293,11 @@ fn shards_add_up_to_the_whole_library() {
             .map(|m| (m["record"].as_u64().unwrap(), m["poses"].to_string()))
             .collect()
     };
-    let whole = recs(&run(None));
+    let all = run(None);
+    // Each molecule is named by its record's title.
+    assert_eq!(all["molecules"][0]["name"], "BEN");
+    assert_eq!(all["molecules"][2]["name"], "MTX");
+    let whole = recs(&all);
     let mut parts = recs(&run(Some("0/2")));
     parts.extend(recs(&run(Some("1/2"))));
     parts.sort();
@@ -301,6 +305,47 @@ fn shards_add_up_to_the_whole_library() {
     assert_eq!(whole.iter().map(|r| r.0).collect::<Vec<_>>(), [1, 2, 3]);
     assert_eq!(parts, whole);
     let _ = std::fs::remove_dir_all(&tmp);
+}
+
+#[test]
+fn from_pose_searches_round_the_drugs_pose() {
+    let Some(dir) = complex("1hnn") else {
+        return;
+    };
+    let x = dir.join("flex-xray.pdbqt").display().to_string();
+    let r = dir.join("protein.pdbqt").display().to_string();
+    let j = json(&[
+        "dock",
+        &r,
+        &x,
+        "--from-pose",
+        "--radius",
+        "2",
+        "--exhaustiveness",
+        "2",
+        "--effort",
+        "0.1",
+        "--reference",
+        &x,
+        "--json",
+    ]);
+    assert!(j["box"]["from"].as_str().unwrap().contains("pose"));
+    let poses = j["molecules"][0]["poses"].as_array().unwrap();
+    // Started round the crystal pose, the search stays in its pocket: every
+    // pose's centre lies within the drug's extent plus the radius.
+    let size: Vec<f64> = (0..3)
+        .map(|k| j["box"]["size"][k].as_f64().unwrap())
+        .collect();
+    let centre: Vec<f64> = (0..3)
+        .map(|k| j["box"]["center"][k].as_f64().unwrap())
+        .collect();
+    for p in poses {
+        for k in 0..3 {
+            let c = p["center"][k].as_f64().unwrap();
+            assert!((c - centre[k]).abs() <= size[k] / 2.0 + 1e-6, "{p}");
+        }
+    }
+    assert!(poses[0]["rmsd_to_reference"].as_f64().unwrap() < 2.0);
 }
 
 #[test]

@@ -339,13 +339,21 @@ pub fn run(args: &DockArgs) -> anyhow::Result<()> {
         let l = l.strip_suffix(".gz").unwrap_or(&l).to_string();
         l.ends_with(".sdf") || l.ends_with(".sd")
     });
-    let records: Vec<usize> = match (&drug_path, args.scene.record) {
-        (_, Some(r)) => vec![r],
-        (Some(p), None) if is_sdf => {
-            let n = model::sdf::record_count(p, &LoadOptions::default())?;
-            (1..=n.max(1)).collect()
-        }
-        _ => vec![1],
+    // Each molecule is named by its record's title, as SDF readers show it.
+    let titles = match &drug_path {
+        Some(p) if is_sdf => model::sdf::record_titles(
+            p,
+            &LoadOptions {
+                decompressed_limit: args.scene.max_decompressed,
+                ..LoadOptions::default()
+            },
+        )?,
+        _ => Vec::new(),
+    };
+    let records: Vec<usize> = match args.scene.record {
+        Some(r) => vec![r],
+        None if !titles.is_empty() => (1..=titles.len()).collect(),
+        None => vec![1],
     };
     let records: Vec<usize> = match args.shard {
         Some((k, n)) => records
@@ -396,7 +404,7 @@ pub fn run(args: &DockArgs) -> anyhow::Result<()> {
             interrupted = true;
             break;
         }
-        let drug: Molecule = if record == 1 || drug_path.is_none() {
+        let mut drug: Molecule = if record == 1 || drug_path.is_none() {
             scene.drug.clone()
         } else {
             let p = drug_path.as_ref().context("a drug file")?;
@@ -420,6 +428,9 @@ pub fn run(args: &DockArgs) -> anyhow::Result<()> {
             m.name = d.structure.name.clone();
             m
         };
+        if let Some(t) = titles.get(record - 1).filter(|t| !t.is_empty()) {
+            drug.name.clone_from(t);
+        }
         for w in &drug.chemistry().warnings {
             eprintln!("bump: warning: {} (record {record}): {w}", drug.name);
         }

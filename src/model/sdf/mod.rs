@@ -64,15 +64,19 @@ pub fn load_sdf(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
     Ok(loaded)
 }
 
-/// How many records an SDF file holds (plain or gzipped).
+/// The title line of each record of an SDF file (plain or gzipped),
+/// trimmed: one entry per record, so their count is the file's.
 ///
 /// # Errors
 /// [`LoadError::Io`] for an unreadable file.
-pub fn record_count(path: &Path, opts: &LoadOptions) -> Result<usize, LoadError> {
+pub fn record_titles(path: &Path, opts: &LoadOptions) -> Result<Vec<String>, LoadError> {
     let bytes = read_bytes(path, opts.max_decompressed())?;
     let text = String::from_utf8_lossy(&bytes);
     let lines: Vec<&str> = crate::text::lines::split_str(&text).collect();
-    Ok(split_records(&lines).len())
+    Ok(split_records(&lines)
+        .into_iter()
+        .map(|(start, _)| lines.get(start).map_or("", |l| l.trim()).to_string())
+        .collect())
 }
 
 /// Parses SDF text already in memory. `path_label` names the source in
